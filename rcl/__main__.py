@@ -1,0 +1,4 @@
+"""`python -m rcl` is the `rcl` command."""
+from .cli import entry
+
+entry()

@@ -1,0 +1,106 @@
+"""Built-in routines: typed adapters from RCL calls to plain Python.
+
+Each domain module (core, motion, vision, camera) holds one explicit table
+``BUILTINS = {"RCL NAME": function}``. A function's annotations are its RCL
+signature (see rcl.types) and its docstring is its help text. A function
+whose first parameter is named ``ctx`` receives the running Context (output
+stream, robot, camera, the error being handled).
+"""
+from __future__ import annotations
+
+import inspect
+import typing
+from dataclasses import dataclass
+from typing import Any, Callable, Optional
+
+from ..types import NUMBER, Type, from_annotation
+
+
+class Ref:
+    """A reference to a variable or array element, as a VAR parameter receives it."""
+
+    __slots__ = ("c", "i")
+
+    def __init__(self, container: list, index: int) -> None:
+        self.c = container
+        self.i = index
+
+    def get(self) -> Any:
+        return self.c[self.i]
+
+    def set(self, value: Any) -> None:
+        self.c[self.i] = value
+
+
+@dataclass(frozen=True)
+class BuiltinParam:
+    name: str
+    type: Type
+    by_ref: bool
+
+
+@dataclass(eq=False)
+class Builtin:
+    """A routine implemented in Python."""
+
+    name: str
+    func: Callable
+    params: tuple[BuiltinParam, ...]
+    result: Optional[Type]  # None: a procedure
+    variadic: Optional[Type]  # the type of any further arguments, or None
+    wants_ctx: bool
+    doc: str
+
+    @classmethod
+    def from_function(cls, name: str, func: Callable) -> Builtin:
+        """Read the RCL signature off a Python function's annotations."""
+        hints = typing.get_type_hints(func, include_extras=True)
+        params: list[BuiltinParam] = []
+        variadic = None
+        wants_ctx = False
+        for i, p in enumerate(inspect.signature(func).parameters.values()):
+            if i == 0 and p.name == "ctx":
+                wants_ctx = True
+                continue
+            if p.name not in hints:
+                raise TypeError(f"built-in {name}: parameter {p.name} has no annotation")
+            typ, by_ref = from_annotation(hints[p.name])
+            if p.kind is inspect.Parameter.VAR_POSITIONAL:
+                variadic = typ
+            elif p.kind in (inspect.Parameter.POSITIONAL_ONLY, inspect.Parameter.POSITIONAL_OR_KEYWORD):
+                params.append(BuiltinParam(p.name, typ, by_ref))
+            else:
+                raise TypeError(f"built-in {name}: parameter {p.name} must be positional")
+        ret = hints.get("return", type(None))
+        result = None if ret is type(None) else from_annotation(ret)[0]
+        doc = inspect.getdoc(func) or ""
+        return cls(name.upper(), func, tuple(params), result, variadic, wants_ctx, doc)
+
+    def result_for(self, arg_types: list[Type]) -> Optional[Type]:
+        """The result type of a call with these argument types (resolves Number)."""
+        if self.result is not NUMBER:
+            return self.result
+        from ..types import INTEGER, REAL
+
+        number_args = [t for p, t in zip(self.params, arg_types) if p.type is NUMBER]
+        if self.variadic is NUMBER:
+            number_args += arg_types[len(self.params):]
+        return INTEGER if all(t == INTEGER for t in number_args) else REAL
+
+    def signature(self) -> str:
+        parts = [("VAR " if p.by_ref else "") + f"{p.name}: {p.type}" for p in self.params]
+        if self.variadic is not None:
+            parts.append(f"...: {self.variadic}")
+        text = f"{self.name}({'; '.join(parts)})"
+        return text + (f" : {self.result}" if self.result is not None else "")
+
+
+def default_builtins() -> dict[str, Builtin]:
+    """A fresh table of every built-in, keyed by case-folded name."""
+    from . import camera, core, motion, vision
+
+    table: dict[str, Builtin] = {}
+    for module in (core, motion, vision, camera):
+        for name, func in module.BUILTINS.items():
+            table[name.lower()] = Builtin.from_function(name, func)
+    return table

@@ -1,0 +1,67 @@
+"""Camera-model built-ins: calibration points, the bicubic warp, the marker.
+
+They call the session's camera model (``add_point``, ``fit``, ``save``,
+``load``, ``warp``) and sensor (``find_mark() -> (u, v) | None``).
+"""
+from __future__ import annotations
+
+from ..errors import BuiltinError
+from ..frame import Vector, vec
+from ..types import Var
+
+
+def _model(ctx, name: str):
+    if ctx.camera_model is None:
+        raise BuiltinError(f"{name}: this session has no camera model")
+    return ctx.camera_model
+
+
+def _call(name: str, action, *args):
+    try:
+        return action(*args)
+    except (ValueError, OSError) as e:
+        raise BuiltinError(f"{name}: {e}") from None
+
+
+def calpoint(ctx, u: float, v: float, x: float, y: float) -> None:
+    """CALPOINT(u, v, x, y): add a correspondence: image point (u, v) px is tray point (x, y) mm."""
+    _call("CALPOINT", _model(ctx, "CALPOINT").add_point, u, v, x, y)
+
+
+def fitwarp(ctx) -> float:
+    """FITWARP(): fit the bicubic warp to the points added; gives the RMS residual in mm."""
+    return float(_call("FITWARP", _model(ctx, "FITWARP").fit))
+
+
+def loadwarp(ctx, path: str) -> None:
+    """LOADWARP(path): load a camera model file."""
+    _call("LOADWARP", _model(ctx, "LOADWARP").load, path)
+
+
+def savewarp(ctx, path: str) -> None:
+    """SAVEWARP(path): save the fitted camera model to a file."""
+    _call("SAVEWARP", _model(ctx, "SAVEWARP").save, path)
+
+
+def warp(ctx, u: float, v: float) -> Vector:
+    """WARP(u, v): the tray-plane point (mm) seen at image point (u, v) px."""
+    x, y, z = _call("WARP", _model(ctx, "WARP").warp, u, v)
+    return vec(x, y, z)
+
+
+def findmark(ctx, u: Var[float], v: Var[float]) -> bool:
+    """FINDMARK(VAR u, VAR v): find the calibration marker in a fresh image; TRUE sets its centroid (px)."""
+    if ctx.sensor is None:
+        raise BuiltinError("FINDMARK: this session has no camera to look with")
+    found = ctx.sensor.find_mark()
+    if found is None:
+        return False
+    u.set(float(found[0]))
+    v.set(float(found[1]))
+    return True
+
+
+BUILTINS = {
+    "CALPOINT": calpoint, "FITWARP": fitwarp, "LOADWARP": loadwarp, "SAVEWARP": savewarp,
+    "WARP": warp, "FINDMARK": findmark,
+}

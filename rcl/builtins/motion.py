@@ -1,0 +1,94 @@
+"""Motion built-ins: thin adapters over the session's robot backend (rcl.robots)."""
+from __future__ import annotations
+
+import math
+from typing import Annotated
+
+from ..errors import BuiltinError
+from ..frame import Frame, FrameError
+from ..robots import RobotError
+from ..types import Var
+from ..values import Array
+
+BaseToT5 = Annotated[Frame, "base -> t5"]
+
+
+def _robot(ctx):
+    if ctx.robot is None:
+        raise BuiltinError("this session has no robot")
+    return ctx.robot
+
+
+def _do(action, *args):
+    try:
+        return action(*args)
+    except RobotError as e:
+        raise BuiltinError(str(e)) from None
+
+
+def move(ctx, t5: BaseToT5) -> None:
+    """MOVE(T5^): joint-interpolated move of the manipulator end to T5^ (robot base coordinates)."""
+    _do(_robot(ctx).move, t5.matrix)
+
+
+def moves(ctx, t5: BaseToT5) -> None:
+    """MOVES(T5^): straight-line move of the manipulator end to T5^."""
+    _do(_robot(ctx).moves, t5.matrix)
+
+
+def speed(ctx, percent: float) -> None:
+    """SPEED(percent): the speed of later motions, 1 to 100 percent of the maximum."""
+    if not 1.0 <= percent <= 100.0:
+        raise BuiltinError(f"SPEED takes 1 to 100 percent, not {percent:g}")
+    _do(_robot(ctx).speed, percent)
+
+
+def open_(ctx) -> None:
+    """OPEN: open the gripper."""
+    _do(_robot(ctx).open)
+
+
+def close(ctx) -> None:
+    """CLOSE: close the gripper."""
+    _do(_robot(ctx).close)
+
+
+def home(ctx) -> None:
+    """HOME: move to the home position."""
+    _do(_robot(ctx).home)
+
+
+def here(ctx) -> BaseToT5:
+    """HERE^(): the current pose of T5 (robot base coordinates)."""
+    try:
+        return Frame(_do(_robot(ctx).here))
+    except FrameError as e:
+        raise BuiltinError(f"the robot reported a pose that is not a frame: {e}") from None
+
+
+def delay(ctx, seconds: float) -> None:
+    """DELAY(seconds): wait (simulated time on a simulator)."""
+    if not (seconds >= 0.0 and math.isfinite(seconds)):
+        raise BuiltinError(f"DELAY takes a finite number of seconds >= 0, not {seconds:g}")
+    _do(_robot(ctx).delay, seconds)
+
+
+def jmove(ctx, q: list[float]) -> None:
+    """JMOVE(q): move to joint angles (degrees), one array element per axis."""
+    _do(_robot(ctx).jmove, list(q.items))
+
+
+def joints(ctx, q: Var[list[float]]) -> None:
+    """JOINTS(VAR q): read the joint angles (degrees) into q, one element per axis."""
+    values = _do(_robot(ctx).joints)
+    target: Array = q.get()
+    if len(target.items) != len(values):
+        raise BuiltinError(f"JOINTS needs an array of {len(values)} REALs for this arm, "
+                           f"not {len(target.items)}")
+    target.items[:] = [float(v) for v in values]
+
+
+BUILTINS = {
+    "MOVE": move, "MOVES": moves, "SPEED": speed, "OPEN": open_, "CLOSE": close,
+    "HOME": home, "HERE^": here, "DELAY": delay, "JMOVE": jmove, "JOINTS": joints,
+}

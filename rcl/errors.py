@@ -1,0 +1,114 @@
+"""Diagnostics and the exceptions that carry them.
+
+Only the CLI and the REPL print; everything else raises these. Every
+message renders as ``FILE:LINE:COL: error: MESSAGE`` followed by the source
+line and a caret under the column.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional
+
+from .ast import Span
+
+
+@dataclass(frozen=True)
+class Diagnostic:
+    """One error at a place in a source file."""
+
+    filename: str
+    span: Span
+    message: str
+    source_line: str = ""
+
+    def render(self) -> str:
+        head = f"{self.filename}:{self.span.line}:{self.span.col}: error: {self.message}"
+        if not self.source_line:
+            return head
+        line = self.source_line.rstrip("\n")
+        # Keep tabs so the caret lines up under them.
+        pad = "".join(c if c == "\t" else " " for c in line[: self.span.col - 1])
+        width = 1
+        if self.span.end_line == self.span.line:
+            width = max(1, self.span.end_col - self.span.col + 1)
+        width = min(width, max(1, len(line) - self.span.col + 1))
+        return f"{head}\n{line}\n{pad}^{'~' * (width - 1)}"
+
+
+def source_line(source: str, line: int) -> str:
+    lines = source.splitlines()
+    return lines[line - 1] if 0 < line <= len(lines) else ""
+
+
+class RclError(Exception):
+    """Base of every error RCL reports to a user."""
+
+
+class RclStaticError(RclError):
+    """The program was rejected before anything ran; carries every diagnostic."""
+
+    def __init__(self, diagnostics: list[Diagnostic]) -> None:
+        self.diagnostics = diagnostics
+        super().__init__("\n".join(d.render() for d in diagnostics))
+
+
+@dataclass(frozen=True)
+class StackEntry:
+    """One active RCL routine call: who is running and where it was called from."""
+
+    routine: str
+    filename: str
+    span: Span
+
+
+class RclRuntimeError(RclError):
+    """An error while the program ran; the robot has been halted."""
+
+    def __init__(self, message: str, filename: str = "", span: Optional[Span] = None,
+                 source: str = "", stack: tuple[StackEntry, ...] = ()) -> None:
+        super().__init__(message)
+        self.message = message
+        self.filename = filename
+        self.span = span
+        self.source = source
+        self.stack = stack
+
+    @property
+    def diagnostic(self) -> Optional[Diagnostic]:
+        if self.span is None:
+            return None
+        return Diagnostic(self.filename, self.span, self.message, source_line(self.source, self.span.line))
+
+    def render(self) -> str:
+        d = self.diagnostic
+        text = d.render() if d else f"error: {self.message}"
+        if self.stack:
+            lines = ["RCL call stack (most recent call first):"]
+            for e in reversed(self.stack):
+                lines.append(f"  {e.routine}, called at {e.filename}:{e.span.line}:{e.span.col}")
+            text += "\n" + "\n".join(lines)
+        return text
+
+    def __str__(self) -> str:
+        return self.render()
+
+
+class RclCancelled(RclError):
+    """The program was stopped from outside (cancel(), Ctrl-C or the step budget); the robot is halted."""
+
+    def __init__(self, reason: str, filename: str = "", span: Optional[Span] = None) -> None:
+        super().__init__(reason)
+        self.reason = reason
+        self.filename = filename
+        self.span = span
+
+    def render(self) -> str:
+        where = f"{self.filename}:{self.span.line}:{self.span.col}: " if self.span else ""
+        return f"{where}stopped: {self.reason}"
+
+
+class BuiltinError(Exception):
+    """Raised by a built-in's Python code for a user-facing failure (IK, limits, bad argument).
+
+    The interpreter turns it into an RclRuntimeError at the calling expression.
+    """

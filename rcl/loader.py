@@ -1,0 +1,102 @@
+"""Load a program: parse the main source and, transitively, every file it IMPORTs.
+
+``IMPORT 'name'`` finds name.rcl beside the importing file, then in the
+session's search path, then in the standard library (stdlib/). Each file is
+loaded once per session, so import cycles are harmless.
+"""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Iterable, Optional
+
+from . import ast as A
+from .errors import Diagnostic, RclStaticError, source_line
+from .parser import parse
+from .resources import stdlib_dir
+
+
+def read_source(path: Path) -> str:
+    """A source file's text; OSError or UnicodeDecodeError say what went wrong."""
+    return path.read_bytes().decode("utf-8-sig")
+
+
+def describe_read_error(path, e: Exception) -> str:
+    if isinstance(e, UnicodeDecodeError):
+        return f"{path} is not UTF-8 text (byte 0x{e.object[e.start]:02x} at offset {e.start})"
+    if isinstance(e, IsADirectoryError):
+        return f"{path} is a folder, not a file"
+    if isinstance(e, OSError):
+        return f"cannot read {path}: {e.strerror or e}"
+    return f"cannot read {path}: {e}"
+
+
+def load(source: str, filename: str, key: str, base: Path, known: dict[str, A.Module],
+         search: Iterable[Path]) -> list[A.Module]:
+    """[main, new imported modules...]; raises RclStaticError with every load problem."""
+    main = parse(source, filename)
+    main.key = key
+    modules = [main]
+    loaded: dict[str, A.Module] = {key: main} if key else {}
+    errors: list[Diagnostic] = []
+    queue = [(main, base)]
+    while queue:
+        module, folder = queue.pop(0)
+        for imp in module.imports:
+            path = _resolve(imp.name, folder, search)
+            if path is None:
+                errors.append(_error(module, imp.span, f"cannot find module '{imp.name}' "
+                                     f"(looked for {_file_name(imp.name)} beside this file, "
+                                     f"in the search path and in the standard library)"))
+                continue
+            mkey = str(path)
+            if mkey in known:
+                imp.module = None  # loaded by an earlier run of this session
+                continue
+            if mkey in loaded:
+                imp.module = loaded[mkey]
+                continue
+            try:
+                text = read_source(path)
+            except (OSError, UnicodeDecodeError) as e:
+                errors.append(_error(module, imp.span, describe_read_error(path, e)))
+                continue
+            shown = _display_name(path)
+            try:
+                m = parse(text, shown)
+            except RclStaticError as e:
+                errors.extend(e.diagnostics)
+                continue
+            m.key = mkey
+            loaded[mkey] = m
+            imp.module = m
+            modules.append(m)
+            queue.append((m, path.parent))
+    if errors:
+        raise RclStaticError(errors)
+    return modules
+
+
+def _file_name(name: str) -> str:
+    return name if name.lower().endswith(".rcl") else name + ".rcl"
+
+
+def _resolve(name: str, folder: Path, search: Iterable[Path]) -> Optional[Path]:
+    file = _file_name(name)
+    for d in [folder, *search, stdlib_dir()]:
+        candidate = Path(d) / file
+        if candidate.is_file():
+            return candidate.resolve()
+    return None
+
+
+def _display_name(path: Path) -> str:
+    try:
+        rel = os.path.relpath(path)
+    except ValueError:
+        return str(path)
+    return str(path) if rel.startswith("..") else rel
+
+
+def _error(module: A.Module, span: A.Span, message: str) -> Diagnostic:
+    return Diagnostic(module.filename, span, message, source_line(module.source, span.line))

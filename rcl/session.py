@@ -1,0 +1,290 @@
+"""Session: the embedding API. The CLI, the REPL and the tests all go through it.
+
+    s = Session()
+    s.run("W^ := TRANS(300, 0, 20) * ROTY(180)")
+    s["W^"].matrix            # a 4x4 numpy array
+    s.register(my_function)   # a Python function becomes a typed built-in
+
+A session owns its variables, routines, built-ins, robot and camera; two
+sessions share nothing. Variables and routines persist from one run to the
+next. A program is parsed and checked whole before anything runs: a static
+error raises RclStaticError and nothing moves; a runtime error halts the
+robot and raises RclRuntimeError.
+"""
+from __future__ import annotations
+
+import contextlib
+import sys
+from pathlib import Path
+from typing import Any, Callable, Iterable, Optional
+
+import numpy as np
+
+from . import types as T
+from .builtins import Builtin, default_builtins
+from .checker import Checker
+from .errors import Diagnostic, RclCancelled, RclError, RclRuntimeError, RclStaticError
+from .frame import Frame, FrameError
+from .interpreter import Compiler, Context
+from .loader import describe_read_error, load, read_source
+from .robots import RecordingArm
+from .scope import GlobalScope
+from .values import Array, default_factory
+
+RECURSION_LIMIT = 100_000  # Python frames; RCL's own limit (MAX_CALL_DEPTH) is what users meet
+
+
+class RclInternalError(RclError):
+    """A fault in RCL itself (not in the user's program); the robot has been halted."""
+
+
+class Session:
+    """One RCL interpreter with its own state, robot and camera."""
+
+    def __init__(self, *, robot=None, sensor=None, camera_model=None, out=None,
+                 step_budget: Optional[int] = None, search_path: Iterable[str | Path] = ()) -> None:
+        """robot: a rcl.robots.Robot (default: a RecordingArm); sensor and camera_model: the
+        camera and its model for the vision and calibration built-ins (default: none);
+        out: where WRITE goes (default: sys.stdout); step_budget: stop a run after this many
+        loop iterations and routine calls; search_path: extra folders for IMPORT."""
+        self.robot = robot if robot is not None else RecordingArm()
+        self.step_budget = step_budget
+        self.search_path = [Path(p) for p in search_path]
+        self._ctx = Context(self.robot, sensor, camera_model, out)
+        self._scope = GlobalScope(builtins=default_builtins())
+        self._values: list = []
+        self._ran: set[str] = set()
+
+    # Running ---------------------------------------------------------------
+
+    def run(self, source: str, filename: str = "<string>") -> None:
+        """Check and run RCL source text (IMPORTs are found from the current folder)."""
+        self._run(source, filename, "", Path.cwd())
+
+    def run_file(self, path: str | Path) -> None:
+        """Check and run an .rcl file."""
+        source, key = self._read(path)
+        self._run(source, str(path), key, Path(key).parent)
+
+    def check(self, source: str, filename: str = "<string>") -> list[Diagnostic]:
+        """Every static error of the source, without running it or changing the session."""
+        return self._check(source, filename, "", Path.cwd())[1]
+
+    def check_file(self, path: str | Path) -> list[Diagnostic]:
+        source, key = self._read(path)
+        return self._check(source, str(path), key, Path(key).parent)[1]
+
+    def cancel(self) -> None:
+        """Stop the running program at its next loop iteration or call (safe from any thread)."""
+        self._ctx.cancel()
+
+    # Variables and built-ins -------------------------------------------------
+
+    def __getitem__(self, name: str) -> Any:
+        v = self._scope.variables.get(name.lower())
+        if v is None:
+            raise KeyError(name)
+        if v.kind == "const":
+            return v.value
+        return _to_python(self._values[v.slot])
+
+    def get(self, name: str, default: Any = None) -> Any:
+        try:
+            return self[name]
+        except KeyError:
+            return default
+
+    def __setitem__(self, name: str, value: Any) -> None:
+        key = name.lower()
+        v = self._scope.variables.get(key)
+        if v is None:
+            t = _infer_type(value)
+            if T.contains_frame(t) != name.endswith("^"):
+                raise TypeError(f"{name}: only names ending in ^ hold frames" if name.endswith("^") is False
+                                else f"{name} is a frame name; it can only hold a frame")
+            if not _is_identifier(name):
+                raise ValueError(f"{name!r} is not an RCL name")
+            v = self._scope.new_global(name, t, declared=True)
+            self._values.append(None)
+        elif v.kind == "const":
+            raise TypeError(f"{v.name} is a constant")
+        self._values[v.slot] = _to_rcl(value, v.type, v.name)
+
+    set = __setitem__
+
+    def variables(self) -> dict[str, str]:
+        """Every global variable and constant, as first written, with its type."""
+        return {v.name: str(v.type) for v in self._scope.variables.values()}
+
+    def register(self, func: Callable, name: Optional[str] = None) -> Builtin:
+        """Make a Python function a built-in of this session; its annotations are its RCL signature."""
+        b = Builtin.from_function(name or func.__name__, func)
+        if b.name.lower() in self._scope.routines:
+            raise ValueError(f"{b.name} is already a routine of this session")
+        self._scope.builtins = dict(self._scope.builtins)
+        self._scope.builtins[b.name.lower()] = b
+        return b
+
+    def builtins(self) -> dict[str, Builtin]:
+        return {b.name: b for b in self._scope.builtins.values()}
+
+    # Internals ---------------------------------------------------------------
+
+    def _read(self, path: str | Path) -> tuple[str, str]:
+        p = Path(path)
+        try:
+            return read_source(p), str(p.resolve())
+        except (OSError, UnicodeDecodeError) as e:
+            raise FileNotReadable(describe_read_error(path, e)) from None
+
+    def _check(self, source, filename, key, base):
+        with _deep_recursion():
+            try:
+                modules = load(source, filename, key, base, self._scope.modules, self.search_path)
+            except RclStaticError as e:
+                return None, e.diagnostics, None
+            scope = self._scope.fork()
+            diagnostics = Checker(scope).check(modules)
+        return modules, diagnostics, scope
+
+    def _run(self, source: str, filename: str, key: str, base: Path) -> None:
+        modules, diagnostics, scope = self._check(source, filename, key, base)
+        if diagnostics:
+            raise RclStaticError(diagnostics)
+        self._adopt(scope, modules)
+        ctx = self._ctx
+        ctx.start(self.step_budget)
+        try:
+            with _deep_recursion(), np.errstate(all="ignore"):
+                main = self._compile(modules)
+                if key:
+                    self._ran.add(key)
+                main()
+        except (RclRuntimeError, RclCancelled):
+            self._halt()
+            raise
+        except KeyboardInterrupt:
+            self._halt()
+            raise RclCancelled("interrupted (Ctrl-C)") from None
+        except RecursionError:
+            self._halt()
+            raise RclRuntimeError(f"{filename}: the program nests too deeply to run") from None
+        except Exception as e:
+            self._halt()
+            raise RclInternalError(f"internal error: {type(e).__name__}: {e}") from e
+
+    def _adopt(self, scope: GlobalScope, modules) -> None:
+        """Make a checked program's declarations the session's (new globals get their initial values)."""
+        first_new = len(self._values)
+        self._values.extend([None] * (scope.slots - first_new))
+        for v in scope.variables.values():
+            if v.slot >= first_new and v.declared and v.kind == "var" and v.type is not None:
+                self._values[v.slot] = default_factory(v.type)()
+        for m in modules:
+            if m.key:
+                scope.modules[m.key] = m
+        old = self._scope.routines
+        for key, r in scope.routines.items():
+            prior = old.get(key)
+            if prior is not None and prior is not r:
+                # Redefined with the same signature: callers compiled earlier hold `prior`.
+                prior.decl, prior.locals, prior.module, prior.code = r.decl, r.locals, r.module, None
+                scope.routines[key] = prior
+        self._scope = scope
+
+    def _compile(self, modules):
+        compiler = Compiler(self._scope, self._values, self._ctx, self._ran)
+        for r in self._scope.routines.values():
+            if r.code is None:
+                compiler.routine_code(r, r.module)
+        return compiler.module_code(modules[0])
+
+    def _halt(self) -> None:
+        with contextlib.suppress(Exception):
+            self.robot.halt()
+
+
+class FileNotReadable(RclError):
+    """A source file that cannot be read (missing, a folder, not UTF-8)."""
+
+
+@contextlib.contextmanager
+def _deep_recursion():
+    old = sys.getrecursionlimit()
+    sys.setrecursionlimit(max(old, RECURSION_LIMIT))
+    try:
+        yield
+    finally:
+        sys.setrecursionlimit(old)
+
+
+def _is_identifier(name: str) -> bool:
+    body = name[:-1] if name.endswith("^") else name
+    return bool(body) and body[0].isascii() and body[0].isalpha() and all(
+        c.isascii() and (c.isalnum() or c == "_") for c in body)
+
+
+def _infer_type(value: Any) -> T.Type:
+    if isinstance(value, Frame):
+        return T.FRAME
+    if isinstance(value, bool):
+        return T.BOOLEAN
+    if isinstance(value, int):
+        return T.INTEGER
+    if isinstance(value, float):
+        return T.REAL
+    if isinstance(value, str):
+        return T.STRING
+    a = np.asarray(value) if not isinstance(value, (list, tuple)) or _numeric_seq(value) else None
+    if a is not None and a.shape == (4, 4):
+        return T.FRAME
+    if a is not None and a.shape == (3,):
+        return T.VECTOR
+    if isinstance(value, (list, tuple)) and value:
+        return T.ArrayType(_infer_type(value[0]), 0, len(value) - 1)
+    raise TypeError(f"no RCL type for {type(value).__name__} values")
+
+
+def _numeric_seq(value) -> bool:
+    try:
+        return np.asarray(value, dtype=float).ndim in (1, 2)
+    except (TypeError, ValueError):
+        return False
+
+
+def _to_rcl(value: Any, t: T.Type, name: str) -> Any:
+    """A Python value as the RCL value of type t, or TypeError/ValueError."""
+    try:
+        if T.is_frame(t):
+            return value if isinstance(value, Frame) else Frame(np.asarray(value, dtype=float))
+        if t == T.VECTOR:
+            v = np.array(value, dtype=float)
+            if v.shape != (3,):
+                raise ValueError("a VECTOR has 3 components")
+            v.flags.writeable = False
+            return v
+        if t == T.BOOLEAN and isinstance(value, (bool, np.bool_)):
+            return bool(value)
+        if t == T.INTEGER and isinstance(value, (int, np.integer)) and not isinstance(value, bool):
+            return int(value)
+        if t == T.REAL and isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
+            return float(value)
+        if t == T.STRING and isinstance(value, str):
+            return value
+        if isinstance(t, T.ArrayType) and isinstance(value, (list, tuple, Array)):
+            items = value.items if isinstance(value, Array) else list(value)
+            size = t.high - t.low + 1
+            if len(items) != size:
+                raise ValueError(f"the array has {size} elements, not {len(items)}")
+            return Array(t.low, [_to_rcl(x, t.element, name) for x in items])
+    except FrameError as e:
+        raise ValueError(f"{name}: {e}") from None
+    raise TypeError(f"{name} is {t}; a {type(value).__name__} cannot be stored in it")
+
+
+def _to_python(value: Any) -> Any:
+    if isinstance(value, np.ndarray):
+        return value.copy()
+    if isinstance(value, Array):
+        return [_to_python(x) for x in value.items]
+    return value
