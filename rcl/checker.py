@@ -136,8 +136,9 @@ class Checker:
         existing = self.scope.routines.get(key)
         if existing is not None and existing.decl is not decl:
             if existing in self.new_routines:
-                self.error(name.span, f"{name.text} is already defined at "
-                                      f"{existing.module.filename}:{existing.decl.span.line}")
+                where = (f"line {existing.decl.span.line}" if existing.module is self.module
+                         else f"{existing.module.filename}:{existing.decl.span.line}")
+                self.error(name.span, f"{existing.name} is already defined at {where}")
                 return
             if ([(p.type, p.by_ref) for p in existing.params] != [(p.type, p.by_ref) for p in params]
                     or existing.result != result):
@@ -373,7 +374,7 @@ class Checker:
             if t is T.ANY or value_type is T.ANY:
                 return
             if not T.assignable(t, value_type):
-                self.error(s.value.span, f"cannot store a {value_type} where a {t} belongs")
+                self.error(s.value.span, f"cannot store {_article(value_type)} where {_article(t)} belongs")
                 return
             problem = T.refs_conflict(t, value_type)
             if problem:
@@ -484,7 +485,7 @@ class Checker:
                 self.error(s.value.span, f"procedure {r.name} gives no value; use a FUNCTION to return one")
             return
         if s.value is None:
-            self.error(s.span, f"function {r.name} must RETURN a {r.result}")
+            self.error(s.span, f"function {r.name} must RETURN {_article(r.result)}")
             return
         t = self.value(s.value)
         if not T.assignable(r.result, t):
@@ -504,6 +505,9 @@ class Checker:
             self.error(s.message.span, f"RAISE takes a STRING message, not {t}")
 
     def stmt_Solve(self, s: A.Solve, top: bool) -> None:
+        v = self.lookup(s.unknown.key)
+        if v is None:
+            v = self._declare(s.unknown, T.FRAME, s)  # the grammar makes the unknown a frame name
         try:
             solution = solve(s.lhs, s.rhs, s.unknown, s.span)
         except SolveError as e:
@@ -511,12 +515,6 @@ class Checker:
             self.expr(s.rhs)
             self.error(e.span, str(e))
             return
-        v = self.lookup(s.unknown.key)
-        if v is None:
-            if not s.unknown.is_frame:
-                self.error(s.unknown.span, self._frame_rule_message(s.unknown.text, T.FRAME, "hold"))
-                return
-            v = self._declare(s.unknown, T.FRAME, s)
         sides = []
         for side in (s.lhs, s.rhs):
             t = self.value(side)
@@ -675,7 +673,7 @@ class Checker:
                 return T.REAL
             self.error(e.name.span, f"a VECTOR has fields .X .Y .Z, not .{e.name.text}")
             return T.ANY
-        self.error(e.name.span, f"a {t} has no fields")
+        self.error(e.name.span, f"{_article(t)} has no fields")
         return T.ANY
 
     def expr_Index(self, e: A.Index) -> T.Type:
@@ -689,7 +687,7 @@ class Checker:
             e.type = T.ANY
             return T.ANY
         if not isinstance(t, T.ArrayType):
-            self.error(e.span, f"only arrays can be indexed, not a {t}")
+            self.error(e.span, f"only arrays can be indexed, not {_article(t)}")
             e.type = T.ANY
             return T.ANY
         e.type = t.element
@@ -746,6 +744,8 @@ class Checker:
     def _result(target, arg_types) -> Optional[T.Type]:
         if isinstance(target, Routine):
             return target.result
+        if target.name == "INV" and arg_types and T.is_frame(arg_types[0]):
+            return T.inverse(arg_types[0])  # INV([a->b]) : [b->a]
         return target.result_for(arg_types)
 
     def _var_argument(self, a: A.Expr, p, routine: str, position: int) -> T.Type:

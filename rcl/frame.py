@@ -71,7 +71,7 @@ class Frame:
     @classmethod
     def trans(cls, x: float, y: float, z: float) -> Frame:
         if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)):
-            raise FrameError(f"a translation must be finite, not ({x}, {y}, {z})")
+            raise FrameError(f"a translation must be finite, not ({x:g}, {y:g}, {z:g})")
         m = np.eye(4)
         m[0, 3], m[1, 3], m[2, 3] = x, y, z
         return cls._trusted(m)
@@ -220,7 +220,7 @@ def check_rotation(r: np.ndarray) -> None:
 def _cos_sin(deg: float) -> tuple[float, float]:
     """cos and sin of an angle in degrees, exact at multiples of 90."""
     if not math.isfinite(deg):
-        raise FrameError(f"an angle must be a finite number, not {deg}")
+        raise FrameError(f"an angle must be a finite number, not {deg:g}")
     q, r = divmod(float(deg), 90.0)
     if r == 0.0:
         return ((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0))[int(q) % 4]
