@@ -210,10 +210,14 @@ class Frame:
 
 
 def check_rotation(r: np.ndarray) -> None:
-    """Raise FrameError unless r is orthonormal and right-handed within tolerance."""
-    if not np.allclose(r.T @ r, np.eye(3), rtol=0.0, atol=ORTHONORMAL_TOLERANCE):
+    """Raise FrameError unless the columns of r are unit length and at right angles within
+    ORTHONORMAL_TOLERANCE, and right-handed (a = n x o)."""
+    n, o, a = r[:, 0], r[:, 1], r[:, 2]
+    lengths = np.abs(np.sqrt((r * r).sum(axis=0)) - 1.0)
+    dots = np.abs([n @ o, o @ a, a @ n])
+    if lengths.max() > ORTHONORMAL_TOLERANCE or dots.max() > ORTHONORMAL_TOLERANCE:
         raise FrameError("the axes n, o, a must be orthonormal (unit length, at right angles)")
-    if abs(np.linalg.det(r) - 1.0) > ORTHONORMAL_TOLERANCE:
+    if np.cross(n, o) @ a < 0.0:
         raise FrameError("the axes n, o, a must be right-handed (a = n x o)")
 
 

@@ -86,6 +86,7 @@ class Compiler:
         self.values = values
         self.ctx = ctx
         self.ran = ran  # keys of the modules already executed in this session
+        self.module_codes: dict[str, Callable[[], None]] = {}  # compiled imported modules, by key
         self.module: Optional[A.Module] = None
         self.routine: Optional[Routine] = None
 
@@ -272,19 +273,14 @@ class Compiler:
         return run
 
     def s_Import(self, s: A.Import):
-        m = s.module
-        if m is None:
+        if s.module is None:
             return None
-        key = _module_key(m)
-        ran = self.ran
-        saved = self.module, self.routine
-        code = self.module_code(m)
-        self.module, self.routine = saved
+        key, ran, codes = s.module.key, self.ran, self.module_codes
 
         def run(fr):
             if key not in ran:
                 ran.add(key)
-                code()
+                codes[key]()
         return run
 
     # Places (assignment targets) -------------------------------------------
@@ -611,8 +607,4 @@ def _message(e: Exception) -> str:
     if isinstance(e, OverflowError):
         return "number too large"
     return str(e)
-
-
-def _module_key(m: A.Module) -> str:
-    return m.key or m.filename
 

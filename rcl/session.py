@@ -197,6 +197,8 @@ class Session:
         for r in self._scope.routines.values():
             if r.code is None:
                 compiler.routine_code(r, r.module)
+        for m in modules[1:]:
+            compiler.module_codes[m.key] = compiler.module_code(m)
         return compiler.module_code(modules[0])
 
     def _halt(self) -> None:
