@@ -103,8 +103,9 @@ class RclCancelled(RclError):
         self.span = span
 
     def render(self) -> str:
-        where = f"{self.filename}:{self.span.line}:{self.span.col}: " if self.span else ""
-        return f"{where}stopped: {self.reason}"
+        if self.span is None:
+            return f"stopped: {self.reason}"
+        return f"{self.filename}:{self.span.line}:{self.span.col}: error: stopped: {self.reason}"
 
 
 class BuiltinError(Exception):

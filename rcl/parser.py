@@ -314,6 +314,8 @@ def _syntax_diagnostic(e: UnexpectedInput, source: str, filename: str) -> Diagno
         what = "RETURN" if tok.type == "RETURN_BARE" else repr(str(tok))
         expected = _expected_text(e.expected)
         message = f"unexpected {what}" + (f"; expected {expected}" if expected else "")
+        if tok.start_pos is not None and source.startswith("(*", tok.start_pos):
+            message = "unterminated comment: (* has no matching *)"
     else:
         lines = source.splitlines() or [""]
         line = len(lines)
