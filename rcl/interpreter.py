@@ -572,10 +572,39 @@ class Compiler:
             return lambda fr: a(fr).apply(b(fr))
         if op in ("/", "DIV", "MOD"):
             return self._division(op, a, b, e)
-        f = {"+": operator.add, "-": operator.sub, "*": operator.mul}[op]
         if e.type == T.INTEGER:
-            return self._checked(lambda fr: f(a(fr), b(fr)), e.op_span)
-        return lambda fr: f(a(fr), b(fr))
+            return self._integer_arithmetic(op, a, b, e.op_span)
+        if op == "+":
+            return lambda fr: a(fr) + b(fr)
+        if op == "-":
+            return lambda fr: a(fr) - b(fr)
+        return lambda fr: a(fr) * b(fr)
+
+    def _integer_arithmetic(self, op: str, a: Callable, b: Callable, span: A.Span) -> Callable:
+        """+ - * on INTEGERs, each written out: this is the inner loop of most programs."""
+        make = self._raiser()
+
+        def overflow():
+            return make("INTEGER overflow (beyond 64 bits)", span)
+        if op == "+":
+            def run(fr):
+                x = a(fr) + b(fr)
+                if INT_MIN <= x <= INT_MAX:
+                    return x
+                raise overflow()
+        elif op == "-":
+            def run(fr):
+                x = a(fr) - b(fr)
+                if INT_MIN <= x <= INT_MAX:
+                    return x
+                raise overflow()
+        else:
+            def run(fr):
+                x = a(fr) * b(fr)
+                if INT_MIN <= x <= INT_MAX:
+                    return x
+                raise overflow()
+        return run
 
     def _division(self, op: str, a: Callable, b: Callable, e: A.BinOp) -> Callable:
         make, span = self._raiser(), e.op_span

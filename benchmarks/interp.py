@@ -1,0 +1,161 @@
+"""Interpreter speed against plain Python + numpy. Run by hand: python benchmarks/interp.py
+
+Prints one table:
+  - 100,000 evaluations of the paper's equation T5^ := INV(Z^)*W^*WG^*INV(E^) in RCL, against the
+    same loop in Python with numpy.linalg.inv (the obvious way) and with a closed-form rigid inverse;
+  - a 1,000,000-step scalar loop in RCL and in Python;
+  - parse + check of a generated 2,000-line program;
+  - `rcl run` start-up for a one-line script (a fresh process, median of several).
+"""
+from __future__ import annotations
+
+import io
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from rcl import Session
+from rcl.checker import Checker
+from rcl.parser import parse
+
+N_FRAMES = 100_000
+N_SCALAR = 1_000_000
+
+SETUP = """Z^ := TRANS(0, 0, 100) * ROTZ(30)
+E^ := TRANS(0, 0, 50) * ROTX(10)
+W^ := TRANS(300, 20, 0) * ROTY(180) * ROTZ(20)
+WG^ := TRANS(0, 0, -15) * ROTZ(90)
+"""
+
+
+def best(f, repeat=3) -> float:
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        f()
+        times.append(time.perf_counter() - t)
+    return min(times)
+
+
+def rcl_time(setup: str, loop: str) -> float:
+    s = Session(out=io.StringIO())
+    s.run(setup)
+    return best(lambda: s.run(loop))
+
+
+def frames_numpy(closed_form: bool) -> float:
+    def rz(d):
+        t = np.radians(d)
+        m = np.eye(4)
+        m[:2, :2] = [[np.cos(t), -np.sin(t)], [np.sin(t), np.cos(t)]]
+        return m
+    Z = rz(30)
+    Z[2, 3] = 100
+    E = np.eye(4)
+    E[2, 3] = 50
+    W = rz(20)
+    W[:3, 3] = (300, 20, 0)
+    WG = rz(90)
+    WG[2, 3] = -15
+
+    def rigid_inv(m):
+        out = m.T.copy()
+        out[:3, 3] = -(out[:3, :3] @ m[:3, 3])
+        out[3, :3] = 0.0
+        return out
+    inv = rigid_inv if closed_form else np.linalg.inv
+
+    def loop():
+        for _ in range(N_FRAMES):
+            T5 = inv(Z) @ W @ WG @ inv(E)  # noqa: F841
+    return best(loop)
+
+
+def scalar_python() -> float:
+    def loop():
+        s = 0
+        for i in range(1, N_SCALAR + 1):
+            s = s + i
+        return s
+    return best(loop)
+
+
+def program(lines: int) -> str:
+    """A realistic program: routines, loops, frames, arrays, SOLVE; about `lines` lines."""
+    chunk = """PROCEDURE PICK{k}(W^, WG^; depth : REAL)
+  VAR T5^ : FRAME
+  SOLVE Z^ * T5^ * E^ = W^ * WG^ * TRANS(0, 0, -depth) FOR T5^
+  MOVE(T5^)
+END
+FUNCTION AREA{k}(a, b : REAL) : REAL
+  RETURN a * b
+END
+total{k} := 0
+FOR i := 1 TO 3 DO
+  IF i MOD 2 = 0 THEN total{k} := total{k} + i ELSE total{k} := total{k} - 1 END
+END
+F{k}^ := TRANS(total{k}, AREA{k}(2, 3), 0) * ROTZ(45)
+PICK{k}(F{k}^, IDENT(), 10)
+VAR arr{k} : ARRAY [1..4] OF REAL
+arr{k}[2] := DIST(F{k}^, IDENT())
+WHILE total{k} < 10 DO total{k} := total{k} + 3 END
+WRITELN('chunk {k}: ', total{k}, ' ', arr{k}[2])
+"""
+    head = "Z^ := TRANS(0, 0, 100)\nE^ := TRANS(0, 0, 50)\n"
+    per = chunk.count("\n")
+    return head + "".join(chunk.format(k=k) for k in range(lines // per + 1))
+
+
+def parse_check(source: str) -> float:
+    def once():
+        modules = [parse(source, "big.rcl")]
+        s = Session()
+        diagnostics = Checker(s._scope.fork()).check(modules)
+        assert not diagnostics, diagnostics[:3]
+    return best(once)
+
+
+def startup() -> float:
+    with tempfile.TemporaryDirectory() as d:
+        p = Path(d) / "one.rcl"
+        p.write_text("WRITELN('ok')\n")
+        subprocess.run([sys.executable, "-m", "rcl", "run", str(p)], capture_output=True)  # warm caches
+        times = []
+        for _ in range(7):
+            t = time.perf_counter()
+            r = subprocess.run([sys.executable, "-m", "rcl", "run", str(p)], capture_output=True, text=True)
+            times.append(time.perf_counter() - t)
+            assert r.stdout == "ok\n", r.stderr
+        return statistics.median(times)
+
+
+def main() -> None:
+    rows = []
+    loop = f"FOR i := 1 TO {N_FRAMES} DO\n  T5^ := INV(Z^)*W^*WG^*INV(E^)\nEND\n"
+    t_rcl = rcl_time(SETUP, loop)
+    t_inv = frames_numpy(closed_form=False)
+    t_closed = frames_numpy(closed_form=True)
+    rows.append((f"{N_FRAMES:,} x T5^ := INV(Z^)*W^*WG^*INV(E^)", t_rcl,
+                 f"numpy.linalg.inv {t_inv:.3f} s ({t_rcl / t_inv:.2f}x); closed-form numpy {t_closed:.3f} s "
+                 f"({t_rcl / t_closed:.2f}x)", "<= 3x"))
+    t_rcl = rcl_time("s := 0\n", f"s := 0\nFOR i := 1 TO {N_SCALAR} DO s := s + i END\n")
+    t_py = scalar_python()
+    rows.append((f"{N_SCALAR:,}-step scalar loop s := s + i", t_rcl, f"Python {t_py:.3f} s ({t_rcl / t_py:.1f}x)", "-"))
+    source = program(2000)
+    n_lines = source.count("\n")
+    rows.append((f"parse + check, {n_lines:,}-line program", parse_check(source), "", "< 0.5 s"))
+    rows.append(("`rcl run` start-up, one-line script", startup(), "median of 7 fresh processes", "< 0.3 s"))
+    width = max(len(r[0]) for r in rows)
+    print(f"{'benchmark':<{width}}  {'RCL':>8}  {'target':>8}  reference")
+    print("-" * (width + 70))
+    for name, t, ref, target in rows:
+        print(f"{name:<{width}}  {t:>7.3f}s  {target:>8}  {ref}")
+
+
+if __name__ == "__main__":
+    main()
