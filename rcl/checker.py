@@ -18,19 +18,15 @@ from typing import Optional
 
 from . import ast as A
 from . import types as T
+from .constants import NotConstant, fold
 from .errors import Diagnostic, source_line
+from .rules import ORDERING, article, binop_type
 from .scope import GlobalScope, ParamInfo, Routine, Variable
 from .solve import SolveError, solve
 
 MAX_PASSES = 64
 MAX_ARRAY_ELEMENTS = 10_000_000
 INT_MAX = 2**63 - 1
-ARITHMETIC = {"+", "-", "*", "/", "DIV", "MOD"}
-ORDERING = {"<", "<=", ">", ">="}
-
-
-class _NotConstant(Exception):
-    pass
 
 
 class Checker:
@@ -224,7 +220,7 @@ class Checker:
     def _constant_int(self, e: A.Expr) -> Optional[int]:
         try:
             value, t = self.const_value(e)
-        except _NotConstant:
+        except NotConstant:
             self.error(e.span, "an array bound must be a constant INTEGER (a number or a CONST)")
             return None
         if t != T.INTEGER:
@@ -233,50 +229,15 @@ class Checker:
         return value
 
     def const_value(self, e: A.Expr):
-        """(value, type) of a constant expression; raises _NotConstant."""
-        if isinstance(e, A.Integer):
-            self.expr(e)
-            return (int(e.text) if len(e.text) <= 19 else 0), T.INTEGER
-        if isinstance(e, A.Real):
-            return float(e.text), T.REAL
-        if isinstance(e, A.String):
-            return e.value, T.STRING
-        if isinstance(e, A.Boolean):
-            return e.value, T.BOOLEAN
-        if isinstance(e, A.Name):
-            v = self.lookup(e.ident.key)
-            if v is not None and v.kind == "const":
-                e.symbol, e.type = v, v.type
-                return v.value, v.type
-            raise _NotConstant
-        if isinstance(e, A.UnOp):
-            value, t = self.const_value(e.operand)
-            if e.op == "NOT" and t == T.BOOLEAN:
-                return not value, t
-            if e.op in "+-" and T.is_numeric(t):
-                return (-value if e.op == "-" else value), t
-            raise _NotConstant
-        if isinstance(e, A.BinOp) and (e.op in ARITHMETIC):
-            a, ta = self.const_value(e.left)
-            b, tb = self.const_value(e.right)
-            if not (T.is_numeric(ta) and T.is_numeric(tb)):
-                if e.op == "+" and ta == tb == T.STRING:
-                    return a + b, T.STRING
-                raise _NotConstant
-            both_int = ta == tb == T.INTEGER
-            if e.op in ("/", "DIV", "MOD") and b == 0:
-                self.error(e.span, "division by zero in a constant")
-                return 0, T.INTEGER if e.op != "/" else T.REAL
-            if e.op == "/":
-                return a / b, T.REAL
-            if e.op in ("DIV", "MOD"):
-                if not both_int:
-                    raise _NotConstant
-                q = abs(a) // abs(b) * (1 if (a >= 0) == (b >= 0) else -1)
-                return (q if e.op == "DIV" else a - q * b), T.INTEGER
-            value = {"+": a + b, "-": a - b, "*": a * b}[e.op]
-            return value, T.INTEGER if both_int else T.REAL
-        raise _NotConstant
+        """(value, type) of a constant expression; raises NotConstant."""
+        return fold(e, self._constant_symbol, self.expr, self.error)
+
+    def _constant_symbol(self, e: A.Name):
+        v = self.lookup(e.ident.key)
+        if v is None or v.kind != "const":
+            raise NotConstant
+        e.symbol, e.type = v, v.type
+        return v.value, v.type
 
     # Names ---------------------------------------------------------------
 
@@ -374,7 +335,7 @@ class Checker:
             if t is T.ANY or value_type is T.ANY:
                 return
             if not T.assignable(t, value_type):
-                self.error(s.value.span, f"cannot store {_article(value_type)} where {_article(t)} belongs")
+                self.error(s.value.span, f"cannot store {article(value_type)} where {article(t)} belongs")
                 return
             problem = T.refs_conflict(t, value_type)
             if problem:
@@ -463,7 +424,7 @@ class Checker:
                 step, _ = self.const_value(s.step)
                 if isinstance(step, int) and step <= 0:
                     self.error(s.step.span, f"a FOR step must be positive (count down with DOWNTO), not {step}")
-            except _NotConstant:
+            except NotConstant:
                 pass
         s.symbol = self._store(s.var, T.INTEGER, s.var.span, s)
         if s.symbol is not None and s.symbol.type not in (None, T.INTEGER):
@@ -485,7 +446,7 @@ class Checker:
                 self.error(s.value.span, f"procedure {r.name} gives no value; use a FUNCTION to return one")
             return
         if s.value is None:
-            self.error(s.span, f"function {r.name} must RETURN {_article(r.result)}")
+            self.error(s.span, f"function {r.name} must RETURN {article(r.result)}")
             return
         t = self.value(s.value)
         if not T.assignable(r.result, t):
@@ -587,7 +548,7 @@ class Checker:
             return
         try:
             value, t = self.const_value(s.value)
-        except _NotConstant:
+        except NotConstant:
             self.value(s.value)
             self.error(s.value.span, "a CONST must be a constant expression of numbers, strings or BOOLEANs")
             value, t = None, T.ANY
@@ -673,7 +634,7 @@ class Checker:
                 return T.REAL
             self.error(e.name.span, f"a VECTOR has fields .X .Y .Z, not .{e.name.text}")
             return T.ANY
-        self.error(e.name.span, f"{_article(t)} has no fields")
+        self.error(e.name.span, f"{article(t)} has no fields")
         return T.ANY
 
     def expr_Index(self, e: A.Index) -> T.Type:
@@ -687,7 +648,7 @@ class Checker:
             e.type = T.ANY
             return T.ANY
         if not isinstance(t, T.ArrayType):
-            self.error(e.span, f"only arrays can be indexed, not {_article(t)}")
+            self.error(e.span, f"only arrays can be indexed, not {article(t)}")
             e.type = T.ANY
             return T.ANY
         e.type = t.element
@@ -733,7 +694,7 @@ class Checker:
             if t is T.ANY:
                 continue
             if not T.assignable(want, t):
-                self.error(a.span, f"argument {i + 1} of {target.name} must be {_article(want)}, not {_article(t)}")
+                self.error(a.span, f"argument {i + 1} of {target.name} must be {article(want)}, not {article(t)}")
                 continue
             problem = T.refs_conflict(want, t)
             if problem:
@@ -777,7 +738,7 @@ class Checker:
             and T.same_shape(p.type.element, t.element))
         if not exact:
             self.error(a.span, f"argument {position} of {routine} is a VAR {p.type}; "
-                               f"{_article(t)} variable cannot be passed")
+                               f"{article(t)} variable cannot be passed")
         return t
 
     def expr_UnOp(self, e: A.UnOp) -> T.Type:
@@ -787,14 +748,14 @@ class Checker:
         if e.op == "NOT":
             if t == T.BOOLEAN:
                 return T.BOOLEAN
-            self.error(e.span, f"NOT needs a BOOLEAN, not {_article(t)}")
+            self.error(e.span, f"NOT needs a BOOLEAN, not {article(t)}")
             return T.ANY
         if T.is_numeric(t) or (e.op == "-" and t == T.VECTOR):
             return t
         if T.is_frame(t):
-            self.error(e.span, f"a FRAME cannot be negated; use INV({_text_hint(e.operand)}) for the inverse")
+            self.error(e.span, f"a FRAME cannot be negated; use INV({e.operand.ident.text if isinstance(e.operand, A.Name) else '...'}) for the inverse")
         else:
-            self.error(e.span, f"unary {e.op} needs a number, not {_article(t)}")
+            self.error(e.span, f"unary {e.op} needs a number, not {article(t)}")
         return T.ANY
 
     def expr_BinOp(self, e: A.BinOp) -> T.Type:
@@ -803,7 +764,7 @@ class Checker:
         b = self.value(e.right)
         if a is T.ANY or b is T.ANY:
             return T.BOOLEAN if op in ORDERING or op in ("=", "<>", "AND", "OR") else T.ANY
-        result = _binop_type(op, a, b)
+        result = binop_type(op, a, b)
         if isinstance(result, T.Type):
             if T.is_frame(result) and T.is_frame(a) and T.is_frame(b):
                 composed, problem = T.compose(a, b)
@@ -822,65 +783,3 @@ def p_span(decl: A.RoutineDecl, name: str) -> A.Span:
             if p.name.text == name:
                 return p.name.span
     return decl.span
-
-
-def _article(t) -> str:
-    text = str(t)
-    return ("an " if text[:1] in "AEIOU" else "a ") + text
-
-
-def _text_hint(e: A.Expr) -> str:
-    return e.ident.text if isinstance(e, A.Name) else "..."
-
-
-def _binop_type(op: str, a: T.Type, b: T.Type):
-    """The result type of a op b, or a message saying why it is not allowed."""
-    num_a, num_b = T.is_numeric(a), T.is_numeric(b)
-    fa, fb = T.is_frame(a), T.is_frame(b)
-    if op in ("AND", "OR"):
-        if a == b == T.BOOLEAN:
-            return T.BOOLEAN
-        return f"{op} needs BOOLEANs, not {a} and {b}"
-    if op in ("=", "<>"):
-        if (num_a and num_b) or (a == b and a in (T.BOOLEAN, T.STRING)):
-            return T.BOOLEAN
-        if fa or fb or T.VECTOR in (a, b):
-            return "frames and vectors are not compared with = or <>; compare DIST(A^, B^) or NORM(u - v) with a tolerance"
-        return f"cannot compare {_article(a)} with {_article(b)}"
-    if op in ORDERING:
-        if (num_a and num_b) or a == b == T.STRING:
-            return T.BOOLEAN
-        return f"{op} compares numbers or strings, not {a} and {b}"
-    if fa or fb:
-        if op == "*":
-            if fa and fb:
-                return T.FRAME
-            if fa and b == T.VECTOR:
-                return T.VECTOR
-            if fb and num_a:
-                return "a FRAME cannot be scaled; frames are multiplied only by frames (and vectors)"
-            return f"a FRAME can multiply a FRAME or a VECTOR, not {_article(b if fa else a)}"
-        if op in ("+", "-"):
-            return f"frames are combined with *, not {op} (to move a frame, multiply by TRANS(x, y, z))"
-        return f"{op} is not defined for frames"
-    if op == "+" and a == b == T.STRING:
-        return T.STRING
-    if a == T.VECTOR or b == T.VECTOR:
-        if op in ("+", "-") and a == b:
-            return T.VECTOR
-        if op == "*" and (num_a or num_b):
-            return T.VECTOR
-        if op == "/" and a == T.VECTOR and num_b:
-            return T.VECTOR
-        if op == "*" and a == b:
-            return "VECTOR * VECTOR is not defined; use DOT(u, v) or CROSS(u, v)"
-        return f"{op} is not defined for {a} and {b}"
-    if num_a and num_b:
-        if op == "/":
-            return T.REAL
-        if op in ("DIV", "MOD"):
-            if a == b == T.INTEGER:
-                return T.INTEGER
-            return f"{op} takes INTEGERs (for REALs use /), not {a} and {b}"
-        return T.INTEGER if a == b == T.INTEGER else T.REAL
-    return f"{op} is not defined for {_article(a)} and {_article(b)}"

@@ -66,7 +66,7 @@ def _run(args) -> int:
     except RclRuntimeError as e:
         return _fail(e.render(), EXIT_RUNTIME)
     except RclCancelled as e:
-        code = EXIT_INTERRUPTED if "Ctrl-C" in e.reason else EXIT_RUNTIME
+        code = EXIT_INTERRUPTED if e.by_user else EXIT_RUNTIME
         return _fail(e.render() + "\nthe robot was halted", code)
     except RclInternalError as e:
         if os.environ.get("RCL_DEBUG"):

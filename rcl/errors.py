@@ -96,11 +96,13 @@ class RclRuntimeError(RclError):
 class RclCancelled(RclError):
     """The program was stopped from outside (cancel(), Ctrl-C or the step budget); the robot is halted."""
 
-    def __init__(self, reason: str, filename: str = "", span: Optional[Span] = None) -> None:
+    def __init__(self, reason: str, filename: str = "", span: Optional[Span] = None,
+                 by_user: bool = False) -> None:
         super().__init__(reason)
         self.reason = reason
         self.filename = filename
         self.span = span
+        self.by_user = by_user  # Ctrl-C, as opposed to cancel() or the step budget
 
     def render(self) -> str:
         if self.span is None:

@@ -21,6 +21,7 @@ from typing import Any, Callable, Iterable, Optional
 import numpy as np
 
 from . import types as T
+from .ast import Span
 from .builtins import Builtin, default_builtins
 from .checker import Checker
 from .errors import Diagnostic, RclCancelled, RclError, RclRuntimeError, RclStaticError
@@ -99,9 +100,10 @@ class Session:
         v = self._scope.variables.get(key)
         if v is None:
             t = _infer_type(value)
-            if T.contains_frame(t) != name.endswith("^"):
-                raise TypeError(f"{name}: only names ending in ^ hold frames" if name.endswith("^") is False
-                                else f"{name} is a frame name; it can only hold a frame")
+            if T.contains_frame(t) and not name.endswith("^"):
+                raise TypeError(f"{name} is not a frame name: only names ending in ^ hold frames")
+            if name.endswith("^") and not T.contains_frame(t):
+                raise TypeError(f"{name} is a frame name; it can only hold a frame")
             if not _is_identifier(name):
                 raise ValueError(f"{name!r} is not an RCL name")
             v = self._scope.new_global(name, t, declared=True)
@@ -165,10 +167,11 @@ class Session:
             raise
         except KeyboardInterrupt:
             self._halt()
-            raise RclCancelled("interrupted (Ctrl-C)") from None
+            raise RclCancelled("interrupted (Ctrl-C)", by_user=True) from None
         except RecursionError:
             self._halt()
-            raise RclRuntimeError(f"{filename}: the program nests too deeply to run") from None
+            raise RclRuntimeError("the program nests too deeply to run", filename, Span(1, 1, 1, 1),
+                                  source) from None
         except Exception as e:
             self._halt()
             raise RclInternalError(f"internal error: {type(e).__name__}: {e}") from e

@@ -111,6 +111,23 @@ def test_huge_literals_and_values():
     assert outcome("F^ := ROTZ(1e308 * 10)")[0] == 1
 
 
+@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow,
+                                                               HealthCheck.function_scoped_fixture])
+@given(st.lists(st.sampled_from(TOKENS), max_size=30).map(" ".join))
+def test_cli_exit_codes_for_token_soup(tmp_path, source):
+    path = tmp_path / "soup.rcl"
+    path.write_text(source, encoding="utf-8")
+    err, out = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out):
+        code = cli_main(["run", str(path), "--step-budget", "5000"])
+    assert code in (0, 1, 2)
+    assert "Traceback" not in err.getvalue()
+    if code == 2:
+        assert out.getvalue() == "" and DIAGNOSTIC.search(err.getvalue())
+    elif code == 1:
+        assert DIAGNOSTIC.search(err.getvalue()), err.getvalue()
+
+
 def test_cli_in_process_never_shows_a_traceback(tmp_path):
     soups = ["IF", "x := ", "END END", "(* open", "'open", "x := 1 DIV 0", "MOVE(5)", "\x00", "W ^ := 1",
              "FUNCTION F^ : INTEGER\nEND", "SOLVE A^ = B^ FOR C^", "IMPORT 'nothing'", "RETURN RETURN"]

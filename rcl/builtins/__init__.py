@@ -13,7 +13,7 @@ import typing
 from dataclasses import dataclass
 from typing import Any, Callable, Optional
 
-from ..types import NUMBER, Type, from_annotation
+from ..types import INTEGER, NUMBER, REAL, Type, from_annotation, is_frame
 
 
 class Ref:
@@ -80,15 +80,14 @@ class Builtin:
         """The result type of a call with these argument types (resolves Number)."""
         if self.result is not NUMBER:
             return self.result
-        from ..types import INTEGER, REAL
-
         number_args = [t for p, t in zip(self.params, arg_types) if p.type is NUMBER]
         if self.variadic is NUMBER:
             number_args += arg_types[len(self.params):]
         return INTEGER if all(t == INTEGER for t in number_args) else REAL
 
     def signature(self) -> str:
-        parts = [("VAR " if p.by_ref else "") + f"{p.name}: {p.type}" for p in self.params]
+        parts = [("VAR " if p.by_ref else "") + p.name.upper() + ("^" if is_frame(p.type) else "")
+                 + f": {p.type}" for p in self.params]
         if self.variadic is not None:
             parts.append(f"...: {self.variadic}")
         text = f"{self.name}({'; '.join(parts)})"
