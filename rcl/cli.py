@@ -36,10 +36,24 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("file", metavar="FILE")
     run.add_argument("--step-budget", type=_positive_int, metavar="N",
                      help="stop after N loop iterations and routine calls")
+    run.add_argument("--camera", metavar="PATH",
+                     help="the camera: an image file (the same picture every look) or a folder of images")
     run.set_defaults(handler=_run)
     check = sub.add_parser("check", help="check .rcl programs without running them")
     check.add_argument("files", nargs="+", metavar="FILE")
     check.set_defaults(handler=_check)
+    calib = sub.add_parser("calib", help="fit and apply camera models")
+    calib_sub = calib.add_subparsers(dest="calib_command", metavar="ACTION", required=True)
+    fit = calib_sub.add_parser("fit", help="fit a camera model to a CSV of points")
+    fit.add_argument("points", metavar="POINTS.csv", help="header u,v,x,y (warp) or u,v,x,y,z (linear)")
+    fit.add_argument("--model", choices=("warp", "linear"), default="warp")
+    fit.add_argument("--z", type=float, default=0.0, help="the tray plane of a warp, mm (default 0)")
+    fit.add_argument("-o", "--output", metavar="MODEL.json", required=True)
+    fit.set_defaults(handler=_calib_fit)
+    apply = calib_sub.add_parser("apply", help="map image points to the tray with a camera model")
+    apply.add_argument("model", metavar="MODEL.json")
+    apply.add_argument("query", metavar="QUERY.csv", help="header u,v (warp) or u,v,z (linear)")
+    apply.set_defaults(handler=_calib_apply)
     return p
 
 
@@ -54,9 +68,16 @@ def _positive_int(text: str) -> int:
 
 
 def _run(args) -> int:
+    from .camera import ImageError, ImageFiles
     from .session import FileNotReadable, RclInternalError, Session
 
-    session = Session(step_budget=args.step_budget)
+    camera = None
+    if args.camera:
+        try:
+            camera = ImageFiles(args.camera)
+        except ImageError as e:
+            return _fail(f"rcl: error: --camera: {e}", EXIT_STATIC)
+    session = Session(step_budget=args.step_budget, camera=camera)
     try:
         session.run_file(args.file)
     except FileNotReadable as e:
@@ -92,6 +113,55 @@ def _check(args) -> int:
             _report_static(RclStaticError(diagnostics))
             status = EXIT_STATIC
     return status
+
+
+def _calib_fit(args) -> int:
+    from .camera import BicubicWarp, CameraModelError, LinearCamera
+    from .camera import fileformat
+    from .camera.csvfile import read_columns
+
+    try:
+        if args.model == "warp":
+            pts = read_columns(args.points, ("u", "v", "x", "y"))
+            model, report = BicubicWarp.fit(pts[:, :2], pts[:, 2:4], args.z)
+            z, what = args.z, "a bicubic warp (16 terms)"
+        else:
+            pts = read_columns(args.points, ("u", "v", "x", "y", "z"))
+            model, report = LinearCamera.fit(pts[:, 2:5], pts[:, :2])
+            z, what = args.z, "the linear 3x4 camera"
+        fileformat.save(args.output, model, z, report)
+    except CameraModelError as e:
+        return _fail(f"rcl calib: error: {e}", EXIT_STATIC)
+    print(f"fitted {what} to {report.points} points; wrote {args.output}")
+    print("point,u,v,x,y,dx_mm,dy_mm,residual_mm")
+    for i, (row, (dx, dy)) in enumerate(zip(pts, report.residuals), start=1):
+        print(f"{i},{row[0]:.6g},{row[1]:.6g},{row[2]:.6g},{row[3]:.6g},{dx:.4g},{dy:.4g},{(dx * dx + dy * dy) ** 0.5:.4g}")
+    print(f"max {report.max:.6g} mm")
+    loo = "n/a (every point is needed)" if report.loo_rms is None else f"{report.loo_rms:.6g} mm"
+    print(f"leave-one-out rms {loo}")
+    print(f"rms {report.rms:.6g} mm")
+    return EXIT_OK
+
+
+def _calib_apply(args) -> int:
+    from .camera import BicubicWarp, CameraModelError
+    from .camera import fileformat
+    from .camera.csvfile import read_columns
+
+    try:
+        model, z, _ = fileformat.load(args.model)
+        if isinstance(model, BicubicWarp):
+            q = read_columns(args.query, ("u", "v"))
+            x, y = model(q[:, 0], q[:, 1])
+        else:
+            q = read_columns(args.query, ("u", "v", "z"))
+            x, y = model.inverse_perspective(q[:, 0], q[:, 1], q[:, 2])
+    except CameraModelError as e:
+        return _fail(f"rcl calib: error: {e}", EXIT_STATIC)
+    print("x,y")
+    for a, b in zip(x, y):
+        print(f"{a:.10g},{b:.10g}")
+    return EXIT_OK
 
 
 def _report_static(e: RclStaticError) -> int:

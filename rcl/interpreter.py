@@ -41,10 +41,11 @@ class Context:
     and the step counter that cancellation and the step budget use.
     """
 
-    def __init__(self, robot=None, sensor=None, camera_model=None, out=None) -> None:
+    def __init__(self, robot=None, camera=None, camera_model=None, sensor=None, out=None) -> None:
         self.robot = robot
-        self.sensor = sensor
+        self.camera = camera
         self.camera_model = camera_model
+        self.sensor = sensor
         self._out = out
         self.stack: list[StackEntry] = []
         self.errmsgs: list[str] = []

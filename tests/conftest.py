@@ -24,3 +24,40 @@ def write(tmp_path):
         path.write_text(text)
         return path
     return make
+
+
+class MarkerCamera:
+    """A scripted camera for tests: it renders the marker disc carried by the arm where
+    the arm's (recorded) pose puts it, seen through a simulated camera, optionally with
+    the arm's real position off from the commanded one by error(x, y) -> (dx, dy)."""
+
+    def __init__(self, robot, camera=None, marker=None, error=None, noise=0.01, seed=0):
+        import numpy as np
+
+        from rcl.camera.simulated import PinholeCamera
+
+        self.robot = robot
+        self.camera = camera or PinholeCamera.over_tray(centre_xy=(350.0, 0.0), height_mm=600.0,
+                                                       tilt_deg=8.0, k1=-0.04)
+        self.marker = marker if marker is not None else np.array([[1, 0, 0, 0], [0, 1, 0, 0],
+                                                                  [0, 0, 1, 130], [0, 0, 0, 1.0]])
+        self.error = error
+        self.noise = noise
+        self.rng = np.random.default_rng(seed)
+
+    def marker_position(self):
+        p = (self.robot.here() @ self.marker)[:3, 3].copy()
+        if self.error is not None:
+            dx, dy = self.error(p[0], p[1])
+            p[0] += dx
+            p[1] += dy
+        return p
+
+    def grab(self):
+        from rcl.camera.simulated import render_disc
+
+        x, y, z = self.marker_position()
+        u, v = self.camera.project(x, y, z)
+        radius = 4.0 * self.camera.focal_px / float(self.camera.depth(x, y, z))  # a 4 mm disc
+        img = render_disc((self.camera.height, self.camera.width), (float(u), float(v)), radius, 0.9, 0.35)
+        return img + self.rng.normal(0.0, self.noise, img.shape)

@@ -208,11 +208,7 @@ def test_vision_and_camera_builtins_need_a_camera():
         def find_wire(self, method):
             return (Frame.trans(1, 2, 0).matrix, Frame.rotz(90).matrix) if method == "binary" else None
 
-        def find_mark(self):
-            return (10.5, 20.25)
-
     out = io.StringIO()
     s = Session(out=out, sensor=Sensor())
-    s.run("WRITELN(GREYWIRE(W^, WG^), ' ', BINWIRE(W^, WG^), ' ', W^.P)\n"
-          "IF FINDMARK(u, v) THEN WRITELN(u, ' ', v) END")
-    assert out.getvalue() == "FALSE TRUE (1, 2, 0)\n10.5 20.25\n"
+    s.run("WRITELN(GREYWIRE(W^, WG^), ' ', BINWIRE(W^, WG^), ' ', W^.P)")
+    assert out.getvalue() == "FALSE TRUE (1, 2, 0)\n"

@@ -1,10 +1,11 @@
 """Camera-model built-ins: calibration points, the bicubic warp, the marker.
 
-They call the session's camera model (``add_point``, ``fit``, ``save``,
-``load``, ``warp``) and sensor (``find_mark() -> (u, v) | None``).
+Thin adapters over rcl.camera: the session's Calibration (ctx.camera_model)
+and its camera (ctx.camera, anything with grab() -> image array).
 """
 from __future__ import annotations
 
+from ..camera import CameraModelError, ImageError, find_mark
 from ..errors import BuiltinError
 from ..frame import Vector, vec
 from ..types import Var
@@ -19,8 +20,15 @@ def _model(ctx, name: str):
 def _call(name: str, action, *args):
     try:
         return action(*args)
-    except (ValueError, OSError) as e:
+    except (CameraModelError, ImageError) as e:
         raise BuiltinError(f"{name}: {e}") from None
+
+
+def grab(ctx, name: str):
+    """A fresh image from the session's camera."""
+    if ctx.camera is None:
+        raise BuiltinError(f"{name}: this session has no camera to look with")
+    return _call(name, ctx.camera.grab)
 
 
 def calpoint(ctx, u: float, v: float, x: float, y: float) -> None:
@@ -34,7 +42,7 @@ def fitwarp(ctx) -> float:
 
 
 def loadwarp(ctx, path: str) -> None:
-    """LOADWARP(path): load a camera model file."""
+    """LOADWARP(path): load a camera-model file (a warp or a linear camera)."""
     _call("LOADWARP", _model(ctx, "LOADWARP").load, path)
 
 
@@ -50,10 +58,8 @@ def warp(ctx, u: float, v: float) -> Vector:
 
 
 def findmark(ctx, u: Var[float], v: Var[float]) -> bool:
-    """FINDMARK(VAR u, VAR v): find the calibration marker in a fresh image; TRUE sets its centroid (px)."""
-    if ctx.sensor is None:
-        raise BuiltinError("FINDMARK: this session has no camera to look with")
-    found = ctx.sensor.find_mark()
+    """FINDMARK(VAR u, VAR v): find the calibration marker in a fresh image; TRUE sets its centre (px)."""
+    found = _call("FINDMARK", find_mark, grab(ctx, "FINDMARK"))
     if found is None:
         return False
     u.set(float(found[0]))

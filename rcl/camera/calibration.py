@@ -1,0 +1,66 @@
+"""Calibration: the camera model a session works with, and the points it is fitted to.
+
+This is what the RCL built-ins CALPOINT, FITWARP, SAVEWARP, LOADWARP and WARP
+drive; it is plain Python and usable without RCL.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional, Union
+
+import numpy as np
+
+from . import fileformat
+from .models import BicubicWarp, CameraModelError, FitReport, LinearCamera
+
+
+class Calibration:
+    """Correspondences (u, v) px <-> (x, y) mm on the tray plane z, and the fitted model."""
+
+    def __init__(self, z: float = 0.0) -> None:
+        self.z = float(z)  # the tray plane, mm
+        self.points: list[tuple[float, float, float, float]] = []
+        self.model: Optional[Union[BicubicWarp, LinearCamera]] = None
+        self.report: Optional[FitReport] = None
+
+    def add_point(self, u: float, v: float, x: float, y: float) -> None:
+        values = np.array([u, v, x, y], dtype=float)
+        if not np.all(np.isfinite(values)):
+            raise CameraModelError(f"a calibration point must be finite numbers, not ({u}, {v}, {x}, {y})")
+        self.points.append(tuple(float(t) for t in values))
+
+    def fit(self) -> float:
+        """Fit the bicubic warp to the points added; the RMS residual in mm."""
+        if not self.points:
+            raise CameraModelError("no calibration points yet: add them with CALPOINT(u, v, x, y)")
+        pts = np.array(self.points)
+        self.model, self.report = BicubicWarp.fit(pts[:, :2], pts[:, 2:], self.z)
+        return self.report.rms
+
+    def save(self, path: Union[str, Path]) -> None:
+        if self.model is None:
+            raise CameraModelError("no camera model to save: fit one first (FITWARP)")
+        fileformat.save(path, self.model, self.z, self.report)
+
+    def load(self, path: Union[str, Path]) -> None:
+        self.model, self.z, self.report = fileformat.load(path)
+
+    def warp(self, u: float, v: float) -> tuple[float, float, float]:
+        """The tray-plane point (x, y, z) mm seen at image point (u, v) px."""
+        if self.model is None:
+            raise CameraModelError("no camera model yet: fit one (CALPOINT, then FITWARP) or load one (LOADWARP)")
+        if isinstance(self.model, BicubicWarp):
+            x, y = self.model(u, v)
+        else:
+            x, y = self.model.inverse_perspective(u, v, self.z)
+        return float(x), float(y), self.z
+
+    def unwarp(self, x: float, y: float) -> tuple[float, float]:
+        """The image point (u, v) px at which the tray point (x, y) is seen."""
+        if self.model is None:
+            raise CameraModelError("no camera model yet")
+        if isinstance(self.model, BicubicWarp):
+            u, v = self.model.inverse(x, y)
+        else:
+            u, v = self.model.project(x, y, self.z)
+        return float(u), float(v)

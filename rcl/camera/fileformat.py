@@ -1,0 +1,136 @@
+"""The camera-model file: versioned JSON holding either model, its fit and its z plane.
+
+    {"format": "rcl-camera-model", "version": 1, "model": "warp" | "linear", "z_mm": 0.0,
+     "warp": {"u0": .., "su": .., "v0": .., "sv": .., "x": [16], "y": [16],
+              "inverse": {"x0": .., "sx": .., "y0": .., "sy": .., "u": [16], "v": [16]}},
+     "linear": {"C": [[4], [4], [4]]},
+     "fit": {"points": N, "rms_mm": .., "max_mm": .., "loo_rms_mm": .. | null, "residuals_mm": [[dx, dy], ...]}}
+
+The warp's terms are u^i v^j with i major (i, j = 0..3) of the normalised
+u' = (u - u0) / su, v' = (v - v0) / sv.
+"""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Optional, Union
+
+import numpy as np
+
+from .models import Bicubic, BicubicWarp, CameraModelError, FitReport, LinearCamera, Normalisation
+
+FORMAT = "rcl-camera-model"
+VERSION = 1
+
+Model = Union[BicubicWarp, LinearCamera]
+
+
+def to_json(model: Model, z: float, report: Optional[FitReport]) -> dict:
+    doc: dict = {"format": FORMAT, "version": VERSION, "z_mm": float(z)}
+    if isinstance(model, BicubicWarp):
+        f, b = model.forward, model.backward
+        doc["model"] = "warp"
+        doc["warp"] = {"u0": f.norm.centre[0], "su": f.norm.scale[0], "v0": f.norm.centre[1],
+                       "sv": f.norm.scale[1], "x": f.p.tolist(), "y": f.q.tolist(),
+                       "inverse": {"x0": b.norm.centre[0], "sx": b.norm.scale[0], "y0": b.norm.centre[1],
+                                   "sy": b.norm.scale[1], "u": b.p.tolist(), "v": b.q.tolist()}}
+    else:
+        doc["model"] = "linear"
+        doc["linear"] = {"C": model.C.tolist()}
+    if report is not None:
+        doc["fit"] = {"points": report.points, "rms_mm": report.rms, "max_mm": report.max,
+                      "loo_rms_mm": report.loo_rms, "residuals_mm": report.residuals.tolist()}
+    return doc
+
+
+def save(path: Union[str, Path], model: Model, z: float, report: Optional[FitReport]) -> None:
+    text = json.dumps(to_json(model, z, report), indent=2)
+    try:
+        Path(path).write_text(text + "\n", encoding="utf-8")
+    except OSError as e:
+        raise CameraModelError(f"cannot write {path}: {e.strerror or e}") from None
+
+
+def load(path: Union[str, Path]) -> tuple[Model, float, Optional[FitReport]]:
+    """(model, z plane, fit report) from a file; CameraModelError says what is wrong."""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as e:
+        raise CameraModelError(f"cannot read {path}: {getattr(e, 'strerror', None) or e}") from None
+    try:
+        doc = json.loads(text)
+    except json.JSONDecodeError as e:
+        raise CameraModelError(f"{path}:{e.lineno}:{e.colno}: not JSON: {e.msg}") from None
+    try:
+        return from_json(doc)
+    except CameraModelError as e:
+        raise CameraModelError(f"{path}: {e}") from None
+
+
+def from_json(doc) -> tuple[Model, float, Optional[FitReport]]:
+    if not isinstance(doc, dict) or doc.get("format") != FORMAT:
+        raise CameraModelError(f"not an RCL camera-model file (no \"format\": \"{FORMAT}\")")
+    version = doc.get("version")
+    if version != VERSION:
+        raise CameraModelError(f"camera-model file version {version!r} is not supported "
+                               f"(this rcl reads version {VERSION})")
+    z = _number(doc, "z_mm")
+    kind = doc.get("model")
+    if kind == "warp":
+        w = _section(doc, "warp")
+        inv = _section(w, "inverse")
+        forward = Bicubic(Normalisation((_number(w, "u0"), _number(w, "v0")), (_scale(w, "su"), _scale(w, "sv"))),
+                          _vector(w, "x", 16), _vector(w, "y", 16))
+        backward = Bicubic(Normalisation((_number(inv, "x0"), _number(inv, "y0")),
+                                         (_scale(inv, "sx"), _scale(inv, "sy"))),
+                           _vector(inv, "u", 16), _vector(inv, "v", 16))
+        model: Model = BicubicWarp(forward, backward, z)
+    elif kind == "linear":
+        c = np.array(_section(doc, "linear").get("C"), dtype=object)
+        try:
+            c = np.array(c.tolist(), dtype=float)
+        except (TypeError, ValueError):
+            raise CameraModelError("\"linear\".\"C\" must be 3 rows of 4 numbers") from None
+        if c.shape != (3, 4) or not np.all(np.isfinite(c)):
+            raise CameraModelError("\"linear\".\"C\" must be 3 rows of 4 finite numbers")
+        model = LinearCamera(c)
+    else:
+        raise CameraModelError(f"\"model\" must be \"warp\" or \"linear\", not {kind!r}")
+    report = None
+    fit = doc.get("fit")
+    if isinstance(fit, dict):
+        residuals = np.asarray(fit.get("residuals_mm", []), dtype=float).reshape(-1, 2)
+        loo = fit.get("loo_rms_mm")
+        report = FitReport(int(fit.get("points", len(residuals))), _number(fit, "rms_mm"),
+                           _number(fit, "max_mm"), None if loo is None else float(loo), residuals)
+    return model, z, report
+
+
+def _section(doc: dict, key: str) -> dict:
+    part = doc.get(key)
+    if not isinstance(part, dict):
+        raise CameraModelError(f"missing the \"{key}\" section")
+    return part
+
+
+def _number(doc: dict, key: str) -> float:
+    value = doc.get(key)
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise CameraModelError(f"\"{key}\" must be a finite number, not {value!r}")
+    return float(value)
+
+
+def _scale(doc: dict, key: str) -> float:
+    value = _number(doc, key)
+    if value == 0.0:
+        raise CameraModelError(f"\"{key}\" must not be zero")
+    return value
+
+
+def _vector(doc: dict, key: str, n: int) -> np.ndarray:
+    value = doc.get(key)
+    if (not isinstance(value, list) or len(value) != n
+            or not all(isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in value)):
+        raise CameraModelError(f"\"{key}\" must be a list of {n} finite numbers")
+    return np.array(value, dtype=float)
