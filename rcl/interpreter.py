@@ -41,11 +41,11 @@ class Context:
     and the step counter that cancellation and the step budget use.
     """
 
-    def __init__(self, robot=None, camera=None, camera_model=None, sensor=None, out=None) -> None:
+    def __init__(self, robot=None, camera=None, camera_model=None, wire_finder=None, out=None) -> None:
         self.robot = robot
         self.camera = camera
         self.camera_model = camera_model
-        self.sensor = sensor
+        self.wire_finder = wire_finder
         self._out = out
         self.stack: list[StackEntry] = []
         self.errmsgs: list[str] = []

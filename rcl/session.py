@@ -42,12 +42,12 @@ class RclInternalError(RclError):
 class Session:
     """One RCL interpreter with its own state, robot and camera."""
 
-    def __init__(self, *, robot=None, camera=None, camera_model=None, sensor=None, out=None,
+    def __init__(self, *, robot=None, camera=None, camera_model=None, wire_finder=None, out=None,
                  step_budget: Optional[int] = None, search_path: Iterable[str | Path] = ()) -> None:
         """robot: a rcl.robots.Robot (default: a RecordingArm); camera: anything with
         grab() -> image array, such as rcl.camera.ImageFiles (default: none);
         camera_model: a rcl.camera.Calibration (default: a new, empty one);
-        sensor: find_wire(method) for the vision built-ins (default: none);
+        wire_finder: f(image, method) -> rcl.vision.Sighting | None for BINWIRE and GREYWIRE;
         out: where WRITE goes (default: sys.stdout); step_budget: stop a run after this many
         loop iterations and routine calls; search_path: extra folders for IMPORT."""
         from .camera import Calibration
@@ -57,7 +57,7 @@ class Session:
         self.camera_model = camera_model if camera_model is not None else Calibration()
         self.step_budget = step_budget
         self.search_path = [Path(p) for p in search_path]
-        self._ctx = Context(self.robot, self.camera, self.camera_model, sensor, out)
+        self._ctx = Context(self.robot, self.camera, self.camera_model, wire_finder, out)
         self._scope = GlobalScope(builtins=default_builtins())
         self._values: list = []
         self._ran: set[str] = set()

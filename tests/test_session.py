@@ -198,17 +198,37 @@ def test_motion_builtins_reach_the_robot_backend():
     assert "array of 5 REALs" in e.value.message
 
 
-def test_vision_and_camera_builtins_need_a_camera():
-    s = Session(out=io.StringIO())
-    with pytest.raises(RclRuntimeError) as e:
-        s.run("IF GREYWIRE(W^, WG^) THEN WRITELN('seen') END")
-    assert "no camera" in e.value.message
+def test_vision_builtins_turn_pixels_into_wire_frames_through_the_camera_model():
+    from rcl.camera import Calibration
+    from rcl.vision import Sighting
 
-    class Sensor:
-        def find_wire(self, method):
-            return (Frame.trans(1, 2, 0).matrix, Frame.rotz(90).matrix) if method == "binary" else None
+    with pytest.raises(RclRuntimeError, match="no grey wire finder"):
+        Session(out=io.StringIO()).run("IF GREYWIRE(W^, WG^) THEN WRITELN('seen') END")
+
+    class Model(Calibration):  # a camera looking straight down: x = 100 + u / 2, y = 50 - v / 2 (v runs down)
+        def warp(self, u, v):
+            return 100 + u / 2, 50 - v / 2, 7.0
+
+    class Camera:
+        def grab(self):
+            return np.zeros((10, 10))
+
+    def finder(image, method):
+        if method == "grey":
+            return None
+        # the end at (20, 40) px, the wire running to +u; the grasp 30 px along, tangent 90 degrees (down the image)
+        return Sighting(end=(20.0, 40.0), end_angle=0.0, grasp=(50.0, 40.0), grasp_angle=90.0)
 
     out = io.StringIO()
-    s = Session(out=out, sensor=Sensor())
-    s.run("WRITELN(GREYWIRE(W^, WG^), ' ', BINWIRE(W^, WG^), ' ', W^.P)")
-    assert out.getvalue() == "FALSE TRUE (1, 2, 0)\n"
+    s = Session(out=out, camera=Camera(), camera_model=Model(), wire_finder=finder)
+    s.run("WRITELN(GREYWIRE(W^, WG^), ' ', BINWIRE(W^, WG^))")
+    assert out.getvalue() == "FALSE TRUE\n"
+    w, wg = s["W^"].matrix, s["WG^"].matrix
+    np.testing.assert_allclose(w[:3, 3], [110, 30, 7])  # the end on the tray
+    np.testing.assert_allclose(w[:3, 2], [1, 0, 0], atol=1e-12)  # Z along the wire, away from the end
+    np.testing.assert_allclose(w[:3, 0], [0, 0, 1], atol=1e-12)  # X up out of the tray
+    g = w @ wg  # the gripper in the world
+    np.testing.assert_allclose(g[:3, 3], [125, 30, 7])
+    np.testing.assert_allclose(g[:3, 2], [0, 0, -1], atol=1e-12)  # approach straight down
+    # the tangent at the grasp is image-down, world -y; the fingers (o) close across it, along world x
+    np.testing.assert_allclose(abs(g[:3, 1] @ [1, 0, 0]), 1, atol=1e-12)

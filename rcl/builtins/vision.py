@@ -1,34 +1,72 @@
 """Vision built-ins: a fresh camera image in, the chosen wire end out as frames.
 
-They call the session's sensor: an object with
-``find_wire(method) -> (W, WG) | None`` where W and WG are 4x4 matrices
-(W^: the wire end in world coordinates; WG^: the gripper relative to W^).
+The session's wire finder (ctx.wire_finder(image, method) -> Sighting | None)
+looks; the session's camera model turns its pixels into the frames of the
+language reference: W^ has its origin at the wire end, Z along the wire away
+from the end and X up out of the tray; WG^ is the gripper relative to W^,
+at the grasp point with its approach (Z) pointing down into the tray and its
+fingers closing across the wire.
 """
 from __future__ import annotations
 
+import math
 from typing import Annotated
 
+import numpy as np
+
+from ..camera import CameraModelError
 from ..errors import BuiltinError
-from ..frame import Frame, FrameError
+from ..frame import Frame
 from ..types import Var
-
-
-def _find(ctx, method: str, w: Var[Frame], wg: Var[Frame], name: str) -> bool:
-    if ctx.sensor is None:
-        raise BuiltinError(f"{name}: this session has no camera to look with")
-    found = ctx.sensor.find_wire(method)
-    if found is None:
-        return False
-    try:
-        w.set(Frame(found[0]))
-        wg.set(Frame(found[1]))
-    except FrameError as e:
-        raise BuiltinError(f"{name}: the vision result is not a frame: {e}") from None
-    return True
-
+from ..vision import Sighting
+from .camera import grab
 
 WorldToWire = Annotated[Frame, "world -> wire"]
 WireToTool = Annotated[Frame, "wire -> tool"]
+STEP_PX = 1.0  # how far along an image direction to look when mapping it to the tray
+
+
+def wire_frames(model, s: Sighting) -> tuple[Frame, Frame]:
+    """(W, WG) for a sighting, through the camera model (anything with warp(u, v) -> (x, y, z))."""
+    end = np.array(model.warp(*s.end))
+    along = _tray_direction(model, s.end, s.end_angle)
+    up = np.array([0.0, 0.0, 1.0])
+    w = Frame.from_columns(up, np.cross(along, up), along, end)
+    grasp = np.array(model.warp(*s.grasp))
+    tangent = _tray_direction(model, s.grasp, s.grasp_angle)
+    down = -up
+    across = np.cross(down, tangent)  # the fingers close across the wire
+    g = Frame.from_columns(np.cross(across, down), across, down, grasp)
+    return w, w.inv() * g
+
+
+def _tray_direction(model, uv, angle_deg: float) -> np.ndarray:
+    t = math.radians(angle_deg)
+    u, v = uv
+    a = np.array(model.warp(u, v))
+    b = np.array(model.warp(u + STEP_PX * math.cos(t), v + STEP_PX * math.sin(t)))
+    d = b - a
+    d[2] = 0.0
+    n = float(np.linalg.norm(d))
+    if not n > 0.0:
+        raise BuiltinError("the camera model maps the wire direction to nothing")
+    return d / n
+
+
+def _find(ctx, method: str, w: Var[Frame], wg: Var[Frame], name: str) -> bool:
+    if ctx.wire_finder is None:
+        raise BuiltinError(f"{name}: this session has no {method} wire finder")
+    image = grab(ctx, name)
+    sighting = ctx.wire_finder(image, method)
+    if sighting is None:
+        return False
+    try:
+        frames = wire_frames(ctx.camera_model, sighting)
+    except CameraModelError as e:
+        raise BuiltinError(f"{name}: {e}") from None
+    w.set(frames[0])
+    wg.set(frames[1])
+    return True
 
 
 def binwire(ctx, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
