@@ -28,7 +28,7 @@ from .errors import Diagnostic, RclCancelled, RclError, RclRuntimeError, RclStat
 from .frame import Frame, FrameError
 from .interpreter import Compiler, Context
 from .loader import describe_read_error, load, read_source
-from .robots import RecordingArm
+from .robots import SimRobot
 from .scope import GlobalScope
 from .values import Array, default_factory
 
@@ -44,7 +44,7 @@ class Session:
 
     def __init__(self, *, robot=None, camera=None, camera_model=None, wire_finder=None, out=None,
                  step_budget: Optional[int] = None, search_path: Iterable[str | Path] = ()) -> None:
-        """robot: a rcl.robots.Robot (default: a RecordingArm); camera: anything with
+        """robot: a rcl.robots.Robot (default: a SimRobot of the smartarms model); camera: anything with
         grab() -> image array, such as rcl.camera.ImageFiles (default: none);
         camera_model: a rcl.camera.Calibration (default: a new, empty one);
         wire_finder: f(image, method) -> rcl.vision.Sighting | None for BINWIRE and GREYWIRE;
@@ -52,7 +52,7 @@ class Session:
         loop iterations and routine calls; search_path: extra folders for IMPORT."""
         from .camera import Calibration
 
-        self.robot = robot if robot is not None else RecordingArm()
+        self.robot = robot if robot is not None else SimRobot()
         self.camera = camera
         self.camera_model = camera_model if camera_model is not None else Calibration()
         self.step_budget = step_budget

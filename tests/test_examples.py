@@ -10,7 +10,7 @@ import pytest
 from conftest import ROOT, MarkerCamera
 from rcl import Session
 from rcl.camera import Calibration
-from rcl.robots import RecordingArm
+from rcl.robots import SimRobot
 
 EXAMPLES = sorted((ROOT / "examples").glob("*.rcl"))
 STDLIB = sorted((ROOT / "stdlib").glob("*.rcl"))
@@ -20,7 +20,7 @@ STDLIB = sorted((ROOT / "stdlib").glob("*.rcl"))
 def test_example_runs(path: Path, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)  # examples may write files (calibrate.rcl: warp.json)
     out = io.StringIO()
-    robot = RecordingArm()
+    robot = SimRobot()
     s = Session(out=out, step_budget=10_000_000, robot=robot, camera=MarkerCamera(robot))
     s.run_file(path)
     assert out.getvalue().endswith("\n")
@@ -29,7 +29,7 @@ def test_example_runs(path: Path, tmp_path, monkeypatch):
 
 def test_calibrate_example_fits_a_warp_that_absorbs_distortion_and_robot_error(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    robot = RecordingArm()
+    robot = SimRobot()
 
     def error(x, y):  # the arm lands 1-3 mm off, smoothly varying over the tray
         return 1.5 + np.sin(x / 90.0), -1.0 + 0.8 * np.cos(y / 70.0)

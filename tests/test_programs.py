@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 
 from rcl import RclRuntimeError, RclStaticError, Session
+from rcl.robots import RecordingArm
 
 CASES = sorted((Path(__file__).parent / "rcl").glob("*.rcl"))
 EXPECT = re.compile(r"// expect(?P<kind>-exit|-error)?:(?P<rest>.*)$")
@@ -46,7 +47,7 @@ def expectations(path: Path):
 def test_program(path: Path):
     want_out, want_exit, want_errors = expectations(path)
     buf = io.StringIO()
-    session = Session(out=buf, step_budget=1_000_000)
+    session = Session(out=buf, step_budget=1_000_000, robot=RecordingArm())  # the language, not kinematics
     exit_code, found = 0, []
     try:
         session.run_file(path)
