@@ -38,6 +38,13 @@ def _parser() -> argparse.ArgumentParser:
                      help="stop after N loop iterations and routine calls")
     run.add_argument("--camera", metavar="PATH",
                      help="the camera: an image file (the same picture every look) or a folder of images")
+    run.add_argument("--robot", default="sim", metavar="sim|ssc32:PORT[@BAUD]",
+                     help="the arm: the simulator (default) or an SSC-32 controller on a serial port")
+    run.add_argument("--model", metavar="NAME|FILE.toml",
+                     help="the arm model: smartarms (default for sim), al5d (default for ssc32), puma560, "
+                          "or a model file")
+    run.add_argument("--realtime", action="store_true", help="the simulator takes real time for its motions")
+    run.add_argument("--plot", metavar="FILE.png", help="the simulator draws the path of T5 into FILE.png")
     run.set_defaults(handler=_run)
     check = sub.add_parser("check", help="check .rcl programs without running them")
     check.add_argument("files", nargs="+", metavar="FILE")
@@ -67,9 +74,27 @@ def _positive_int(text: str) -> int:
     return n
 
 
+def _robot(args):
+    """The robot the options ask for; RobotError says what is wrong."""
+    from .robots import RobotError, SimRobot
+
+    spec = args.robot
+    if spec == "sim":
+        return SimRobot(args.model or "smartarms", realtime=args.realtime)
+    if spec.startswith("ssc32:") and len(spec) > 6:
+        from .robots.serial_arm import SerialRobot
+
+        port, _, baud = spec[6:].partition("@")
+        if baud and not baud.isdigit():
+            raise RobotError(f"the baud rate must be a whole number, not {baud!r}")
+        return SerialRobot(port, args.model or "al5d", int(baud) if baud else None)
+    raise RobotError(f"unknown robot {spec!r}: use sim or ssc32:PORT[@BAUD]")
+
+
 def _run(args) -> int:
     from .camera import ImageError, ImageFiles
-    from .session import FileNotReadable, RclInternalError, Session
+    from .robots import RobotError
+    from .session import Session
 
     camera = None
     if args.camera:
@@ -77,7 +102,23 @@ def _run(args) -> int:
             camera = ImageFiles(args.camera)
         except ImageError as e:
             return _fail(f"rcl: error: --camera: {e}", EXIT_STATIC)
-    session = Session(step_budget=args.step_budget, camera=camera)
+    try:
+        robot = _robot(args)
+    except RobotError as e:
+        return _fail(f"rcl: error: --robot: {e}", EXIT_STATIC)
+    session = Session(step_budget=args.step_budget, camera=camera, robot=robot)
+    try:
+        return _run_session(session, args)
+    finally:
+        if args.plot and hasattr(robot, "save_plot"):
+            robot.save_plot(args.plot)
+        if hasattr(robot, "close_port"):
+            robot.close_port()
+
+
+def _run_session(session, args) -> int:
+    from .session import FileNotReadable, RclInternalError
+
     try:
         session.run_file(args.file)
     except FileNotReadable as e:

@@ -18,3 +18,6 @@ def test_the_installed_package_finds_its_grammar_and_stdlib():
 
     assert grammar_path().is_file()
     assert (stdlib_dir() / "frames.rcl").is_file()
+    from rcl.robots import builtin_models
+
+    assert builtin_models() == ["al5d", "puma560", "smartarms"]
