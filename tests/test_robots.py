@@ -269,3 +269,18 @@ def test_cli_robot_options(tmp_path):
         assert b"#0P1800#1P1500#2P1500#3P1500#4P1500T667\r" in bytes(fake.received)
     finally:
         fake.close()
+
+
+def test_realtime_sim_takes_the_time_and_halt_cuts_a_motion_short():
+    import threading
+
+    r = SimRobot(realtime=True)
+    t0 = time.monotonic()
+    r.jmove([9, 60, -110, 50, 0])  # 9 degrees of waist at 90/s: 0.1 s
+    assert 0.08 < time.monotonic() - t0 < 1.0
+    threading.Timer(0.1, r.halt).start()
+    t0 = time.monotonic()
+    with pytest.raises(RobotError, match="halted"):
+        r.jmove([-160, 60, -110, 50, 0])  # 169 degrees: almost 2 s, cut after 0.1 s
+    assert time.monotonic() - t0 < 1.0
+    assert r.joints()[0] == 9  # the simulator does not know where a cut motion stopped; it keeps the start
