@@ -283,4 +283,4 @@ def test_realtime_sim_takes_the_time_and_halt_cuts_a_motion_short():
     with pytest.raises(RobotError, match="halted"):
         r.jmove([-160, 60, -110, 50, 0])  # 169 degrees: almost 2 s, cut after 0.1 s
     assert time.monotonic() - t0 < 1.0
-    assert r.joints()[0] == 9  # the simulator does not know where a cut motion stopped; it keeps the start
+    assert -30 < r.joints()[0] < 9  # it stopped early on the way, where it was when halted

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 import threading
+import time
 from dataclasses import dataclass
 from typing import Optional, Sequence
 
@@ -77,9 +78,15 @@ class SimRobot(Robot):
             self.halted = False
             self._stop.clear()
         start = self.clock
-        if self.realtime and self._stop.wait(seconds):
-            self._stop.clear()
-            raise RobotError("the arm was halted")
+        if self.realtime:
+            began = time.monotonic()
+            if self._stop.wait(seconds):
+                self._stop.clear()
+                done = min(1.0, (time.monotonic() - began) / seconds) if seconds > 0 else 1.0
+                self.q = list(path[min(len(path) - 1, int(done * (len(path) - 1)))])  # where it stopped
+                self.clock += done * seconds
+                self.trajectory.append(Motion(kind + " (halted)", start, self.clock, path))
+                raise RobotError("the arm was halted")
         self.clock += seconds
         self.q = list(path[-1])
         self.trajectory.append(Motion(kind, start, self.clock, path))
