@@ -68,6 +68,13 @@ class Checker:
         file_rank = {m.filename: order[id(m)] for m in modules}
         return sorted(found.values(), key=lambda d: (file_rank.get(d.filename, 0), d.span.line, d.span.col))
 
+    def check_expression(self, e: A.Expr, module: A.Module) -> tuple[Optional[T.Type], list[Diagnostic]]:
+        """The type of one expression in the session's scope (None for a procedure call), and its errors."""
+        self.module = module
+        self.errors = []
+        t = self.expr(e)
+        return t, self.errors
+
     def _in_module(self, module: A.Module, action) -> None:
         saved = self.module
         self.module = module

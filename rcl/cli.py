@@ -1,7 +1,9 @@
-"""The `rcl` command: run and check RCL programs.
+"""The `rcl` command: run and check RCL programs, calibrate, and the interactive prompt.
 
+    rcl [repl]          the interactive prompt (piped input runs as a script)
     rcl run FILE        exit 0 ok, 1 runtime error, 2 static errors, 130 interrupted
     rcl check FILE...   exit 0 clean, 2 static errors
+    rcl calib fit|apply camera models
 
 Only this module and the REPL print diagnostics.
 """
@@ -23,8 +25,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser = _parser()
     args = parser.parse_args(argv)
     if args.command is None:
-        parser.print_help(sys.stderr)
-        return EXIT_STATIC
+        args = parser.parse_args(["repl", *(argv if argv is not None else sys.argv[1:])])
     return args.handler(args)
 
 
@@ -32,20 +33,23 @@ def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="rcl", description="RCL, the Robot Control Language.")
     p.add_argument("--version", action="version", version=f"rcl {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
-    run = sub.add_parser("run", help="check and run an .rcl program")
+    setup = argparse.ArgumentParser(add_help=False)
+    setup.add_argument("--step-budget", type=_positive_int, metavar="N",
+                       help="stop after N loop iterations and routine calls")
+    setup.add_argument("--camera", metavar="PATH",
+                       help="the camera: an image file (the same picture every look) or a folder of images")
+    setup.add_argument("--robot", default="sim", metavar="sim|ssc32:PORT[@BAUD]",
+                       help="the arm: the simulator (default) or an SSC-32 controller on a serial port")
+    setup.add_argument("--model", metavar="NAME|FILE.toml",
+                       help="the arm model: smartarms (default for sim), al5d (default for ssc32), puma560, "
+                            "or a model file")
+    setup.add_argument("--realtime", action="store_true", help="the simulator takes real time for its motions")
+    setup.add_argument("--plot", metavar="FILE.png", help="the simulator draws the path of T5 into FILE.png")
+    run = sub.add_parser("run", parents=[setup], help="check and run an .rcl program")
     run.add_argument("file", metavar="FILE")
-    run.add_argument("--step-budget", type=_positive_int, metavar="N",
-                     help="stop after N loop iterations and routine calls")
-    run.add_argument("--camera", metavar="PATH",
-                     help="the camera: an image file (the same picture every look) or a folder of images")
-    run.add_argument("--robot", default="sim", metavar="sim|ssc32:PORT[@BAUD]",
-                     help="the arm: the simulator (default) or an SSC-32 controller on a serial port")
-    run.add_argument("--model", metavar="NAME|FILE.toml",
-                     help="the arm model: smartarms (default for sim), al5d (default for ssc32), puma560, "
-                          "or a model file")
-    run.add_argument("--realtime", action="store_true", help="the simulator takes real time for its motions")
-    run.add_argument("--plot", metavar="FILE.png", help="the simulator draws the path of T5 into FILE.png")
     run.set_defaults(handler=_run)
+    repl = sub.add_parser("repl", parents=[setup], help="the interactive prompt (the default command)")
+    repl.set_defaults(handler=_repl, file="<stdin>")
     check = sub.add_parser("check", help="check .rcl programs without running them")
     check.add_argument("files", nargs="+", metavar="FILE")
     check.set_defaults(handler=_check)
@@ -91,36 +95,68 @@ def _robot(args):
     raise RobotError(f"unknown robot {spec!r}: use sim or ssc32:PORT[@BAUD]")
 
 
-def _run(args) -> int:
+class _SetupError(Exception):
+    """An option that names a camera or robot that cannot be had."""
+
+
+def _session_factory(args):
+    """A function making sessions with the camera and robot the options ask for (one robot, reused)."""
     from .camera import ImageError, ImageFiles
     from .robots import RobotError
     from .session import Session
 
-    camera = None
-    if args.camera:
-        try:
-            camera = ImageFiles(args.camera)
-        except ImageError as e:
-            return _fail(f"rcl: error: --camera: {e}", EXIT_STATIC)
+    try:
+        camera = ImageFiles(args.camera) if args.camera else None
+    except ImageError as e:
+        raise _SetupError(f"rcl: error: --camera: {e}") from None
     try:
         robot = _robot(args)
     except RobotError as e:
-        return _fail(f"rcl: error: --robot: {e}", EXIT_STATIC)
-    session = Session(step_budget=args.step_budget, camera=camera, robot=robot)
+        raise _SetupError(f"rcl: error: --robot: {e}") from None
+    return robot, lambda: Session(step_budget=args.step_budget, camera=camera, robot=robot)
+
+
+def _finish(robot, args) -> None:
+    if args.plot and hasattr(robot, "save_plot"):
+        robot.save_plot(args.plot)
+    if hasattr(robot, "close_port"):
+        robot.close_port()
+
+
+def _run(args) -> int:
     try:
-        return _run_session(session, args)
+        robot, new_session = _session_factory(args)
+    except _SetupError as e:
+        return _fail(str(e), EXIT_STATIC)
+    try:
+        return _run_session(new_session(), args)
     finally:
-        if args.plot and hasattr(robot, "save_plot"):
-            robot.save_plot(args.plot)
-        if hasattr(robot, "close_port"):
-            robot.close_port()
+        _finish(robot, args)
 
 
-def _run_session(session, args) -> int:
+def _repl(args) -> int:
+    try:
+        robot, new_session = _session_factory(args)
+    except _SetupError as e:
+        return _fail(str(e), EXIT_STATIC)
+    try:
+        if not sys.stdin.isatty():
+            return _run_session(new_session(), args, sys.stdin.read())  # piped input runs as a script
+        from .repl import Repl
+
+        return Repl(new_session).loop()
+    finally:
+        _finish(robot, args)
+
+
+def _run_session(session, args, source: Optional[str] = None) -> int:
     from .session import FileNotReadable, RclInternalError
 
     try:
-        session.run_file(args.file)
+        if source is None:
+            session.run_file(args.file)
+        else:
+            session.run(source, args.file)
     except FileNotReadable as e:
         return _fail(f"rcl: error: {e}", EXIT_STATIC)
     except RclStaticError as e:

@@ -53,6 +53,7 @@ class Context:
         self.limit: float = math.inf
         self.budget: Optional[int] = None
         self.cancel_reason: Optional[str] = None
+        self.cancel_by_user = False
 
     @property
     def out(self):
@@ -66,15 +67,16 @@ class Context:
         self.cancel_reason = None
         self.limit = math.inf if budget is None else budget
 
-    def cancel(self, reason: str = "cancelled") -> None:
+    def cancel(self, reason: str = "cancelled", by_user: bool = False) -> None:
         """Ask the running program to stop at its next loop iteration or call (any thread)."""
         self.cancel_reason = reason
+        self.cancel_by_user = by_user
         self.limit = -1
 
     def interrupt(self, filename: str, span: A.Span) -> None:
         """Called when the step counter passes its limit."""
         if self.cancel_reason is not None:
-            raise RclCancelled(self.cancel_reason, filename, span)
+            raise RclCancelled(self.cancel_reason, filename, span, by_user=self.cancel_by_user)
         raise RclCancelled(f"the step budget of {self.budget} loop iterations and calls is spent",
                            filename, span)
 
@@ -98,6 +100,13 @@ class Compiler:
         body = self.block(m.body)
         top: list = []
         return lambda: body(top)
+
+    def expression_code(self, e: A.Expr, m: A.Module) -> Callable[[], Any]:
+        """A checked top-level expression (the REPL's), ready to evaluate."""
+        self.module, self.routine = m, None
+        f = self.expr(e)
+        top: list = []
+        return lambda: f(top)
 
     def routine_code(self, r: Routine, m: A.Module) -> None:
         self.module, self.routine = m, r

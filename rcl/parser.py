@@ -23,12 +23,34 @@ from .resources import grammar_path
 def parse(source: str, filename: str = "<string>") -> A.Module:
     """Parse one source file; raise RclStaticError on a syntax error."""
     try:
-        block = _parser().parse(source)
+        block = _parser().parse(source, start="start")
     except UnexpectedInput as e:
         raise RclStaticError([_syntax_diagnostic(e, source, filename)]) from None
     module = A.Module(filename, source, block)
     module.imports = [s for s in block.body if isinstance(s, A.Import)]
     return module
+
+
+def parse_expression(source: str, filename: str = "<expression>") -> A.Expr:
+    """Parse one expression (the REPL's bare expressions); raise RclStaticError on a syntax error."""
+    try:
+        return _parser().parse(source, start="expr")
+    except UnexpectedInput as e:
+        raise RclStaticError([_syntax_diagnostic(e, source, filename)]) from None
+
+
+def needs_more_input(source: str) -> bool:
+    """Whether source is a program cut short (a block still open, an unfinished expression)."""
+    try:
+        _parser().parse(source, start="start")
+    except UnexpectedEOF:
+        return True
+    except UnexpectedToken as e:
+        return e.token.type == "$END"
+    except UnexpectedCharacters as e:
+        rest = source[e.pos_in_stream:]
+        return rest.startswith("{") or rest.startswith("(*")  # a comment still open
+    return False
 
 
 @lru_cache(maxsize=1)
@@ -37,6 +59,7 @@ def _parser() -> lark.Lark:
     return lark.Lark(
         path.read_text(encoding="utf-8"),
         parser="lalr",
+        start=["start", "expr"],
         lexer="basic",
         postlex=_BareReturn(),
         transformer=_ToAst(),

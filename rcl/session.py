@@ -81,9 +81,37 @@ class Session:
         source, key = self._read(path)
         return self._check(source, str(path), key, Path(key).parent)[1]
 
-    def cancel(self) -> None:
-        """Stop the running program at its next loop iteration or call (safe from any thread)."""
-        self._ctx.cancel()
+    def evaluate(self, text: str, filename: str = "<expression>") -> tuple[Any, Optional[str]]:
+        """Check and evaluate one expression: (its value as Python sees it, its RCL type).
+
+        A procedure call is run and gives (None, None). Raises as run() does."""
+        expr, t, scope, module = self._check_expression(text, filename)
+        self._adopt(scope, [])
+        compiler = Compiler(self._scope, self._values, self._ctx, self._ran)
+        value = self._execute(lambda: compiler.expression_code(expr, module)(), filename, text)
+        return (None, None) if t is None else (_to_python(value), str(t))
+
+    def type_of(self, text: str) -> Optional[str]:
+        """The static type of an expression (None for a procedure call); RclStaticError if it has errors."""
+        return None if (t := self._check_expression(text, "<expression>")[1]) is None else str(t)
+
+    def _check_expression(self, text: str, filename: str):
+        from .ast import Block, Module
+        from .parser import parse_expression
+
+        with _deep_recursion():
+            expr = parse_expression(text, filename)
+            scope = self._scope.fork()
+            module = Module(filename, text, Block([], span=expr.span))
+            t, diagnostics = Checker(scope).check_expression(expr, module)
+        if diagnostics:
+            raise RclStaticError(diagnostics)
+        return expr, t, scope, module
+
+    def cancel(self, reason: str = "cancelled", by_user: bool = False) -> None:
+        """Stop the running program at its next loop iteration or call (safe from any thread).
+        by_user: it was the user's Ctrl-C (the CLI then exits 130)."""
+        self._ctx.cancel(reason, by_user)
 
     # Variables and built-ins -------------------------------------------------
 
@@ -160,14 +188,21 @@ class Session:
         if diagnostics:
             raise RclStaticError(diagnostics)
         self._adopt(scope, modules)
+
+        def main():
+            code = self._compile(modules)
+            if key:
+                self._ran.add(key)
+            code()
+        self._execute(main, filename, source)
+
+    def _execute(self, action: Callable[[], Any], filename: str, source: str) -> Any:
+        """Run compiled code with the robot halted on any error."""
         ctx = self._ctx
         ctx.start(self.step_budget)
         try:
             with _deep_recursion(), np.errstate(all="ignore"):
-                main = self._compile(modules)
-                if key:
-                    self._ran.add(key)
-                main()
+                return action()
         except (RclRuntimeError, RclCancelled):
             self._halt()
             raise

@@ -63,8 +63,6 @@ def test_unreadable_files_get_a_clear_message(tmp_path):
 
 
 def test_usage_errors():
-    r = rcl()
-    assert r.returncode == 2 and "usage" in r.stderr.lower()
     r = rcl("run")
     assert r.returncode == 2 and "usage" in r.stderr.lower()
     r = rcl("run", "x.rcl", "--step-budget", "-3")

@@ -1,0 +1,323 @@
+"""The interactive prompt: `rcl` or `rcl repl`.
+
+Each input is a command (`:help`, `:type`, `:load`, `:vars`, `:reset`), a bare
+expression (its value is printed) or statements (run). Input continues on
+the next line while a block or an expression is still open ("the parse
+ended early"). Ctrl-C stops a running statement and the robot; Ctrl-D leaves.
+"""
+from __future__ import annotations
+
+import contextlib
+import os
+import re
+import signal
+import sys
+import threading
+from pathlib import Path
+from typing import Callable, Optional, TextIO
+
+import numpy as np
+
+from .errors import RclCancelled, RclRuntimeError, RclStaticError
+from .frame import Frame
+from .keywords import keywords
+from .parser import needs_more_input, parse_expression
+from .session import FileNotReadable, Session
+from .values import Array, format_real, format_value
+
+PROMPT = "rcl> "
+CONTINUATION = "...  "
+COMMANDS = {
+    ":help": ":help [NAME]   what a built-in or routine does; the commands",
+    ":type": ":type EXPR     the static type of an expression",
+    ":load": ":load FILE     check and run a file in this session",
+    ":vars": ":vars          the variables and their values",
+    ":reset": ":reset         forget every variable and routine",
+    ":quit": ":quit          leave (as Ctrl-D does)",
+}
+_WORD = re.compile(r"[A-Za-z][A-Za-z0-9_]*\^?$")
+
+
+class Repl:
+    """The read-eval-print logic, separate from the terminal so that tests can drive it."""
+
+    def __init__(self, new_session: Callable[[], Session], out: Optional[TextIO] = None) -> None:
+        self.new_session = new_session
+        self.session = new_session()
+        self._out = out
+
+    @property
+    def out(self) -> TextIO:
+        return self._out if self._out is not None else sys.stdout
+
+    def say(self, text: str) -> None:
+        self.out.write(text + "\n")
+        self.out.flush()
+
+    # One input ------------------------------------------------------------------
+
+    def handle(self, text: str) -> bool:
+        """Act on one complete input; False when the user asked to leave."""
+        stripped = text.strip()
+        if not stripped:
+            return True
+        if stripped.startswith(":"):
+            return self.command(stripped)
+        try:
+            try:
+                parse_expression(stripped, "<stdin>")
+            except RclStaticError:
+                self.interruptible(lambda: self.session.run(text, "<stdin>"))
+                return True
+            value, rcl_type = self.interruptible(lambda: self.session.evaluate(stripped, "<stdin>"))
+            if rcl_type is not None:
+                self.say(show(value))
+        except RclStaticError as e:
+            for d in e.diagnostics:
+                self.say(d.render())
+        except RclRuntimeError as e:
+            self.say(e.render())
+        except RclCancelled as e:
+            self.say(f"{e.render()}\nthe robot was halted")
+        except FileNotReadable as e:
+            self.say(f"error: {e}")
+        return True
+
+    def interruptible(self, action):
+        """Run action in a worker thread; Ctrl-C meanwhile cancels the session's program.
+
+        On a terminal the main thread reads the keyboard itself (the terminal without
+        ISIG, so Ctrl-C is a byte, not a signal); a signal is not always seen by a busy
+        Python 3.11 process when another thread takes it. Elsewhere it waits for SIGINT.
+        """
+        result: dict = {}
+        done = threading.Event()
+
+        def work():
+            try:
+                result["value"] = action()
+            except BaseException as e:  # handed to the main thread below
+                result["error"] = e
+            finally:
+                done.set()
+        threading.Thread(target=work, name="rcl statement", daemon=True).start()
+        with _keyboard() as keys:
+            while not done.is_set():
+                try:
+                    if keys is None:
+                        done.wait(0.05)  # not Thread.join: an interrupted join can leave is_alive() wrong
+                    elif b"\x03" in keys(0.05):
+                        raise KeyboardInterrupt
+                except KeyboardInterrupt:
+                    self.session.cancel("interrupted (Ctrl-C)", by_user=True)
+        if "error" in result:
+            raise result["error"]
+        return result["value"]
+
+    def command(self, text: str) -> bool:
+        name, _, arg = text.partition(" ")
+        arg = arg.strip()
+        name = name.lower()
+        if name in (":quit", ":q", ":exit"):
+            return False
+        if name == ":help":
+            self.say(self.help(arg))
+        elif name == ":type":
+            try:
+                t = self.session.type_of(arg)
+                self.say(t if t is not None else "no value: a procedure call")
+            except RclStaticError as e:
+                for d in e.diagnostics:
+                    self.say(d.render())
+        elif name == ":load":
+            if not arg:
+                self.say("usage: :load FILE")
+            else:
+                try:
+                    self.interruptible(lambda: self.session.run_file(arg))
+                except (RclStaticError, RclRuntimeError, RclCancelled, FileNotReadable) as e:
+                    self.say(_render(e))
+        elif name == ":vars":
+            for line in self.variables():
+                self.say(line)
+        elif name == ":reset":
+            self.session = self.new_session()
+            self.say("a new session: every variable and routine is forgotten")
+        else:
+            self.say(f"unknown command {name}; :help lists them")
+        return True
+
+    def help(self, name: str) -> str:
+        if not name:
+            listing = ", ".join(sorted(self.session.builtins()))
+            return "\n".join(["Type RCL statements or an expression; Ctrl-D leaves.", *COMMANDS.values(),
+                              f"built-ins: {listing}"])
+        key = name.lower()
+        builtins = {b.name.lower(): b for b in self.session.builtins().values()}
+        if key in builtins:
+            b = builtins[key]
+            return f"{b.signature()}\n{b.doc}" if b.doc else b.signature()
+        routine = self.session._scope.routines.get(key)
+        if routine is not None:
+            params = "; ".join(("VAR " if p.by_ref else "") + f"{p.name} : {p.type}" for p in routine.params)
+            kind = "FUNCTION" if routine.is_function else "PROCEDURE"
+            result = f" : {routine.result}" if routine.is_function else ""
+            return f"{kind} {routine.name}({params}){result}  (defined in {routine.module.filename})"
+        if name.upper() in keywords():
+            return f"{name.upper()} is a keyword; see docs/language.md"
+        return f"no help for {name}"
+
+    def variables(self) -> list[str]:
+        lines = []
+        for name, t in sorted(self.session.variables().items(), key=lambda kv: kv[0].lower()):
+            value = self.session.get(name)
+            shown = "(no value yet)" if value is None else show(value, short=True)
+            lines.append(f"{name} : {t} = {shown}")
+        return lines or ["no variables yet"]
+
+    def completions(self, word: str) -> list[str]:
+        """Keywords, built-ins, routines and variables starting with word (any case)."""
+        key = word.lower()
+        names = set(keywords()) | set(self.session.builtins())
+        names |= {r.name for r in self.session._scope.routines.values()}
+        names |= set(self.session.variables())
+        return sorted((n for n in names if n.lower().startswith(key)), key=str.lower)
+
+    # The terminal loop ---------------------------------------------------------------
+
+    def loop(self, input=None, output=None) -> int:
+        from prompt_toolkit import PromptSession
+        from prompt_toolkit.completion import Completer, Completion
+        from prompt_toolkit.history import FileHistory, InMemoryHistory
+        from prompt_toolkit.key_binding import KeyBindings
+        from prompt_toolkit.lexers import PygmentsLexer
+
+        from .highlight import RclLexer
+
+        repl = self
+
+        class RclCompleter(Completer):
+            def get_completions(self, document, complete_event):
+                m = _WORD.search(document.text_before_cursor)
+                if m:
+                    for name in repl.completions(m.group()):
+                        yield Completion(name, start_position=-len(m.group()))
+
+        keys = KeyBindings()
+
+        @keys.add("enter")
+        def _(event):
+            buffer = event.current_buffer
+            text = buffer.text
+            if text.strip().startswith(":") or not needs_more_input(text):
+                buffer.validate_and_handle()
+            else:
+                buffer.insert_text("\n")
+
+        path = history_path()
+        history = FileHistory(str(path)) if path is not None else InMemoryHistory()
+        with _sigint_blocked():
+            prompt = PromptSession(multiline=True, key_bindings=keys, lexer=PygmentsLexer(RclLexer),
+                                   completer=RclCompleter(), history=history, input=input, output=output,
+                                   prompt_continuation=lambda width, line, soft: CONTINUATION)
+        while True:
+            try:
+                with _sigint_blocked():
+                    text = prompt.prompt(PROMPT)
+            except KeyboardInterrupt:
+                continue  # Ctrl-C at the prompt (a key there, not a signal) drops the line
+            except EOFError:
+                return 0
+            if not self.handle(text):
+                return 0
+
+
+@contextlib.contextmanager
+def _keyboard():
+    """On a terminal: a function reading the keys typed within a timeout (Ctrl-C arrives as
+    the byte 0x03); None elsewhere. The terminal's settings are restored afterwards."""
+    try:
+        import select
+        import termios
+
+        fd = sys.stdin.fileno()
+        if not os.isatty(fd):
+            raise OSError
+        old = termios.tcgetattr(fd)
+    except (OSError, ValueError, ImportError, AttributeError):
+        yield None
+        return
+    new = termios.tcgetattr(fd)
+    new[3] &= ~(termios.ICANON | termios.ECHO | termios.ISIG)
+    new[6][termios.VMIN], new[6][termios.VTIME] = 0, 0
+    termios.tcsetattr(fd, termios.TCSANOW, new)
+
+    def read(timeout: float) -> bytes:
+        ready, _, _ = select.select([fd], [], [], timeout)
+        return os.read(fd, 64) if ready else b""
+    try:
+        yield read
+    finally:
+        termios.tcsetattr(fd, termios.TCSADRAIN, old)
+
+
+@contextlib.contextmanager
+def _sigint_blocked():
+    """Block SIGINT in this thread while prompt_toolkit runs.
+
+    Threads it starts inherit the mask. Otherwise the kernel may hand a later
+    Ctrl-C to one of them, and CPython 3.11 then never tells the busy main
+    thread, so a running statement could not be interrupted.
+    """
+    if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def show(value, short: bool = False) -> str:
+    """A value for the REPL: a frame as its matrix with position and RPY angles."""
+    if isinstance(value, Frame):
+        roll, pitch, yaw = value.rpy_angles()
+        x, y, z = (format_real(float(c)) for c in value.p)
+        summary = (f"position ({x}, {y}, {z}) mm, RPY ({format_real(roll)}, {format_real(pitch)}, "
+                   f"{format_real(yaw)}) degrees")
+        if short:
+            return summary
+        rows = "\n".join("  [" + "  ".join(f"{c:10.4f}" for c in row) + " ]" for row in value.matrix)
+        return f"{rows}\n  {summary}"
+    if isinstance(value, list):
+        return format_value(Array(0, list(value)))
+    if isinstance(value, np.ndarray):
+        return format_value(value)
+    return format_value(value)
+
+
+def _render(e: Exception) -> str:
+    if isinstance(e, RclStaticError):
+        return "\n".join(d.render() for d in e.diagnostics)
+    if isinstance(e, RclCancelled):
+        return f"{e.render()}\nthe robot was halted"
+    if isinstance(e, RclRuntimeError):
+        return e.render()
+    return f"error: {e}"
+
+
+def history_path() -> Optional[Path]:
+    """Where the history is kept: $RCL_HISTORY, else the XDG state folder; None if not writable."""
+    if os.environ.get("RCL_HISTORY"):
+        path = Path(os.environ["RCL_HISTORY"])
+    else:
+        base = os.environ.get("XDG_STATE_HOME") or os.path.join(os.path.expanduser("~"), ".local", "state")
+        path = Path(base) / "rcl" / "history"
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.touch(exist_ok=True)
+    except OSError:
+        return None
+    return path
+
