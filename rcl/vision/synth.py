@@ -1,0 +1,226 @@
+"""Synthetic trays of loose wires, with ground truth: seeded, fast, every scene kind.
+
+A tray is an image (float in [0, 1], grey or colour) of wires lying in layers,
+with each wire's centre line in millimetres and which of its ends a gripper
+could take. Image coordinates: u = column, v = row, px = mm * px_per_mm.
+
+Scene kinds: sparse, crossing (2-3 layers), low_contrast (uneven lighting),
+bright_on_dark, stripped (thinner, shinier tips), colour, edge (wires running
+off the image: an edge is not a wire end).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+KINDS = ("sparse", "crossing", "low_contrast", "bright_on_dark", "stripped", "colour", "edge")
+GRASP_MM = 15.0  # the grasp point lies this far from the end, along the wire
+FINGER_CLEARANCE_MM = 4.0  # room the fingers need on either side of the wire at the grasp point
+END_MARGIN_MM = 3.0  # an end this close to the image border counts as cut by it
+
+
+@dataclass
+class Wire:
+    centre: np.ndarray  # (N, 2) mm, the centre line from end 0 to end 1
+    width: float  # mm
+    layer: int  # higher lies on top
+    level: tuple  # grey or RGB level of the insulation
+    tip: float = 0.0  # mm of stripped conductor at each end (0: none)
+
+    def point_at(self, end: int, s: float) -> np.ndarray:
+        """The centre-line point s mm from the given end."""
+        pts = self.centre if end == 0 else self.centre[::-1]
+        seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+        cum = np.concatenate([[0.0], np.cumsum(seg)])
+        s = min(max(s, 0.0), cum[-1])
+        return np.array([np.interp(s, cum, pts[:, 0]), np.interp(s, cum, pts[:, 1])])
+
+
+@dataclass
+class End:
+    wire: int
+    end: int  # 0 or 1
+    point: np.ndarray  # mm
+    direction: np.ndarray  # unit vector from the end into the wire
+    graspable: bool
+    why: str = ""  # why not, when not
+
+
+@dataclass
+class Tray:
+    image: np.ndarray
+    px_per_mm: float
+    wires: list[Wire]
+    ends: list[End] = field(default_factory=list)
+    kind: str = ""
+
+
+def make_tray(kind: str = "sparse", seed: int = 0, size: int = 512, px_per_mm: float = 4.0,
+              wires: int | None = None) -> Tray:
+    """A tray of the given kind; the same seed gives the same tray."""
+    if kind not in KINDS:
+        raise ValueError(f"unknown scene kind {kind!r} (one of {', '.join(KINDS)})")
+    rng = np.random.default_rng([seed, KINDS.index(kind)])
+    extent = size / px_per_mm
+    n = wires if wires is not None else {"sparse": 4, "crossing": 7, "edge": 5}.get(kind, 5)
+    colour = kind == "colour"
+    dark_tray = kind == "bright_on_dark"
+    ws = []
+    layers = 3 if kind == "crossing" else 1
+    for i in range(n):
+        ws.append(_random_wire(rng, extent, kind, layer=int(rng.integers(layers)) if layers > 1 else i,
+                               colour=colour, dark_tray=dark_tray))
+    if kind == "sparse":
+        ws = _keep_apart(ws, rng, extent)
+    image = _render(ws, size, px_per_mm, kind, rng)
+    tray = Tray(image, px_per_mm, ws, kind=kind)
+    tray.ends = _ground_truth(ws, extent)
+    return tray
+
+
+def _random_wire(rng, extent: float, kind: str, layer: int, colour: bool, dark_tray: bool) -> Wire:
+    length = rng.uniform(45.0, 90.0)
+    margin = 8.0 if kind != "edge" else -25.0
+    start = rng.uniform(margin, extent - margin, size=2) if margin > 0 else rng.uniform(-15, extent + 15, size=2)
+    heading = rng.uniform(0, 2 * math.pi)
+    bend = rng.normal(0.0, 0.007)
+    steps = int(length / 0.5)
+    pts = [start]
+    for _ in range(steps):
+        heading += bend + rng.normal(0.0, 0.006)
+        pts.append(pts[-1] + 0.5 * np.array([math.cos(heading), math.sin(heading)]))
+    centre = np.array(pts)
+    if kind != "edge":  # keep the wire on the tray
+        lo, hi = centre.min(axis=0), centre.max(axis=0)
+        shift = np.clip(lo, 6.0, None) - lo + np.clip(hi, None, extent - 6.0) - hi
+        centre = centre + shift
+    if colour:
+        level = tuple(float(x) for x in rng.choice([(0.75, 0.15, 0.1), (0.1, 0.55, 0.15), (0.15, 0.2, 0.7),
+                                                    (0.8, 0.7, 0.1), (0.1, 0.1, 0.1)]))
+    elif dark_tray:
+        level = (float(rng.uniform(0.75, 0.95)),)
+    elif kind == "low_contrast":
+        level = (float(rng.uniform(0.45, 0.55)),)
+    else:
+        level = (float(rng.uniform(0.1, 0.3)),)
+    tip = float(rng.uniform(4.0, 7.0)) if kind == "stripped" else 0.0
+    return Wire(centre, float(rng.uniform(1.6, 2.4)), layer, level, tip)
+
+
+def _keep_apart(ws: list[Wire], rng, extent: float) -> list[Wire]:
+    """For sparse trays: drop wires that touch an earlier one."""
+    kept: list[Wire] = []
+    for w in ws:
+        if all(_min_distance(w.centre, k.centre) > (w.width + k.width) / 2 + 6.0 for k in kept):
+            kept.append(w)
+    return kept or ws[:1]
+
+
+def _min_distance(a: np.ndarray, b: np.ndarray) -> float:
+    from scipy.spatial import cKDTree
+
+    return float(cKDTree(b).query(a)[0].min())
+
+
+def _render(ws: list[Wire], size: int, px_per_mm: float, kind: str, rng) -> np.ndarray:
+    from scipy import ndimage
+
+    channels = 3 if kind == "colour" else 1
+    background = {"bright_on_dark": 0.15, "low_contrast": 0.62, "colour": 0.85}.get(kind, 0.8)
+    img = np.full((size, size, channels), background)
+    for w in sorted(ws, key=lambda w: w.layer):
+        pts = w.centre * px_per_mm
+        r = w.width * px_per_mm / 2
+        lo = np.floor(pts.min(axis=0) - r - 2).astype(int)
+        hi = np.ceil(pts.max(axis=0) + r + 2).astype(int)
+        c0, r0 = max(lo[0], 0), max(lo[1], 0)
+        c1, r1 = min(hi[0], size), min(hi[1], size)
+        if c0 >= c1 or r0 >= r1:
+            continue
+        # the centre line, densely sampled, on a 2x finer local grid; distances by EDT
+        fine = np.zeros((2 * (r1 - r0), 2 * (c1 - c0)), bool)
+        dense = _resample(pts, 0.25)
+        fu = np.round((dense[:, 0] - c0) * 2 + 0.5).astype(int)
+        fv = np.round((dense[:, 1] - r0) * 2 + 0.5).astype(int)
+        ok = (fu >= 0) & (fu < fine.shape[1]) & (fv >= 0) & (fv < fine.shape[0])
+        fine[fv[ok], fu[ok]] = True
+        dist = ndimage.distance_transform_edt(~fine) / 2.0
+        cover = np.clip(r - dist + 0.5, 0.0, 1.0)
+        cover = cover.reshape(r1 - r0, 2, c1 - c0, 2).mean(axis=(1, 3))
+        shade = np.array(w.level, float).reshape(1, 1, -1)
+        if kind == "bright_on_dark":
+            profile = np.clip(1.0 - dist / max(r, 1e-6), 0.0, 1.0).reshape(r1 - r0, 2, c1 - c0, 2).mean(axis=(1, 3))
+            shade = shade * (0.8 + 0.2 * profile[..., None])  # a round, shiny wire
+        if w.tip > 0:
+            cover, shade = _stripped_tips(w, cover, shade, dist, r, px_per_mm, (r0, c0))
+        region = img[r0:r1, c0:c1]
+        region[:] = region * (1 - cover[..., None]) + np.broadcast_to(shade, region.shape) * cover[..., None]
+    if kind == "low_contrast":
+        yy, xx = np.mgrid[0:size, 0:size] / size
+        light = 0.75 + 0.45 * (0.6 * xx + 0.4 * yy) + 0.1 * np.sin(3 * xx + 1.0)
+        img = img * light[..., None]
+    img = img + rng.normal(0.0, 0.02, img.shape)
+    img = np.clip(img, 0.0, 1.0)
+    return img[..., 0] if channels == 1 else img
+
+
+def _stripped_tips(w: Wire, cover, shade, dist, r, px_per_mm, origin):
+    """Within w.tip mm of either end, the wire is the thinner, brighter conductor."""
+    rows, cols = np.mgrid[0:cover.shape[0], 0:cover.shape[1]]
+    u = (cols + origin[1] + 0.5) / px_per_mm
+    v = (rows + origin[0] + 0.5) / px_per_mm
+    near_tip = np.zeros(cover.shape, bool)
+    for end in (0, 1):
+        p = w.point_at(end, 0.0)
+        q = w.point_at(end, w.tip)
+        axis = (q - p) / max(np.linalg.norm(q - p), 1e-9)
+        along = (u - p[0]) * axis[0] + (v - p[1]) * axis[1]
+        near_tip |= (along < w.tip) & (np.hypot(u - p[0], v - p[1]) < w.tip + w.width)
+    thin = np.clip(0.55 * r - dist + 0.5, 0.0, 1.0).reshape(cover.shape[0], 2, cover.shape[1], 2).mean(axis=(1, 3))
+    cover = np.where(near_tip, thin, cover)
+    copper = np.full_like(shade, 0.95)
+    shade = np.where(near_tip[..., None], copper, np.broadcast_to(shade, (*cover.shape, shade.shape[-1])))
+    return cover, shade
+
+
+def _resample(pts: np.ndarray, step: float) -> np.ndarray:
+    seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+    cum = np.concatenate([[0.0], np.cumsum(seg)])
+    s = np.arange(0.0, cum[-1] + step, step)
+    return np.stack([np.interp(s, cum, pts[:, 0]), np.interp(s, cum, pts[:, 1])], axis=1)
+
+
+def _ground_truth(ws: list[Wire], extent: float) -> list[End]:
+    ends = []
+    for i, w in enumerate(ws):
+        for e in (0, 1):
+            p = w.point_at(e, 0.0)
+            d = w.point_at(e, 1.0) - p
+            d = d / max(np.linalg.norm(d), 1e-9)
+            ok, why = _graspable(ws, i, e, extent)
+            ends.append(End(i, e, p, d, ok, why))
+    return ends
+
+
+def _graspable(ws: list[Wire], i: int, end: int, extent: float) -> tuple[bool, str]:
+    w = ws[i]
+    span = [w.point_at(end, s) for s in np.arange(0.0, GRASP_MM + 5.0, 0.5)]
+    for p in span:
+        if np.any(p < END_MARGIN_MM) or np.any(p > extent - END_MARGIN_MM):
+            return False, "off the image or cut by its border"
+    grasp = w.point_at(end, GRASP_MM)
+    tip_zone = np.array(span)
+    for j, other in enumerate(ws):
+        if j == i:
+            continue
+        dense = _resample(other.centre, 0.5)
+        near = np.min(np.linalg.norm(dense[:, None, :] - tip_zone[None, :, :], axis=2))
+        if near < (w.width + other.width) / 2 and other.layer > w.layer:
+            return False, "another wire lies on top of it"
+        if np.min(np.linalg.norm(dense - grasp, axis=1)) < FINGER_CLEARANCE_MM + other.width / 2:
+            return False, "no room for the fingers at the grasp point"
+        if near < (w.width + other.width) / 2:
+            return False, "it crosses another wire near its end"
+    return True, ""
