@@ -1,0 +1,284 @@
+"""The paper's binary vision system: threshold, thin, and read wire ends off the skeleton.
+
+1. Block averaging by k x k (k = 4 for a 512 image at 4 px/mm: 128 x 128, about 1 px/mm).
+2. The threshold is the mean grey level at the zero crossings of the image's
+   Laplacian of Gaussian (sigma 2): the level half way up the wires' edges.
+3. Polarity: the wires are the minority class (dark on light or light on dark).
+4. Thinning: passes that each remove the border pixels of one orientation (N, S,
+   E, W in turn), never a critically connected pixel nor an arc end, until four
+   passes in a row change nothing. Each pass is a lookup in a 256-entry table
+   indexed by the 3x3 neighbourhood (thin()).
+5. Skeleton analysis: arc ends whose first GRASP_MM + 3 mm of skeleton meet no
+   crossing and do not touch the image border; the grasp point GRASP_MM along
+   the skeleton, the wire's tangent there from the skeletal points +-2 px, the
+   end's direction from the end and the point 3 px in, and the clearance to the
+   neighbouring wires across the grasp point.
+
+Deviations (each needed on harder scenes): spurs shorter than SPUR_MM are
+pruned before the analysis, and the block size follows the scale for images
+that are not 512 px at 4 px/mm.
+"""
+from __future__ import annotations
+
+import math
+import time
+from functools import lru_cache
+from typing import Optional
+
+import numpy as np
+
+from ..camera.images import as_grey
+from .sighting import Sighting
+
+GRASP_MM = 15.0
+FINGER_CLEARANCE_MM = 4.0
+SPUR_MM = 3.0
+EDGE_FACTOR = 4.0
+BORDER_PX = 2  # skeleton ends this close to the border of the averaged image are cut by it
+
+# The 3x3 neighbours, numbered as in the paper: 1 = E, then anticlockwise to 8 = SE.
+# (row, column) offsets; rows grow downwards, so N is row - 1.
+NEIGHBOURS = ((0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1), (1, 0), (1, 1))
+
+
+def critically_connected(code: int) -> bool:
+    """Whether the centre pixel joins neighbours that nothing else joins.
+
+    x1..x8 are the neighbours (1 = E, anticlockwise). The paper writes this as a
+    sum of products such as 1(3+4+5+6+7)~2~8 (its last, misprinted, term must read
+    7(1+2+3+4+5)~6~8); their sum is true exactly when the neighbours, walked
+    around the ring, form two or more separate runs: the crossing number.
+    """
+    x = [code >> k & 1 for k in range(8)]
+    runs = sum(1 for k in range(8) if not x[k - 1] and x[k])
+    return runs >= 2
+
+
+@lru_cache(maxsize=1)
+def deletion_tables() -> np.ndarray:
+    """(4, 256) booleans: for the orientations N, S, E, W, whether a pixel with that
+    neighbourhood is a border pixel of the orientation that may be deleted."""
+    outside = {"N": 3, "S": 7, "E": 1, "W": 5}  # the neighbour that must be background
+    tables = np.zeros((4, 256), bool)
+    for code in range(256):
+        count = bin(code).count("1")
+        if count < 2 or critically_connected(code):
+            continue  # arc ends and isolated points stay; so do critically connected pixels
+        for i, side in enumerate("NSEW"):
+            tables[i, code] = not code >> (outside[side] - 1) & 1
+    return tables
+
+
+def neighbour_codes(mask: np.ndarray) -> np.ndarray:
+    """For each pixel, the 8-bit code of its neighbours (bit k-1 set when neighbour k is)."""
+    padded = np.pad(mask, 1).astype(np.uint8)
+    h, w = mask.shape
+    code = np.zeros((h, w), np.uint8)
+    for k, (dr, dc) in enumerate(NEIGHBOURS):
+        code |= padded[1 + dr:1 + dr + h, 1 + dc:1 + dc + w] << k
+    return code
+
+
+def thin(mask: np.ndarray, max_passes: int = 400) -> np.ndarray:
+    """The paper's thinning of a binary image to 8-connected arcs one pixel wide."""
+    tables = deletion_tables()
+    skeleton = mask.astype(bool).copy()
+    quiet = 0
+    for p in range(max_passes):
+        table = tables[p % 4]
+        remove = skeleton & table[neighbour_codes(skeleton)]
+        if remove.any():
+            skeleton &= ~remove
+            quiet = 0
+        else:
+            quiet += 1
+            if quiet == 4:
+                break
+    return skeleton
+
+
+def block_average(grey: np.ndarray, k: int) -> np.ndarray:
+    h, w = grey.shape[0] // k * k, grey.shape[1] // k * k
+    return grey[:h, :w].reshape(h // k, k, w // k, k).mean(axis=(1, 3))
+
+
+def log_threshold(image: np.ndarray, sigma: float = 2.0) -> float:
+    """The mean grey level at the zero crossings of the Laplacian of Gaussian.
+
+    Only crossings with a real edge count: a flat, noisy tray crosses zero
+    everywhere, and those crossings would pull the mean to the tray's own level
+    (a deviation from the paper, needed on noisy images): a crossing counts when
+    the Laplacian's jump across it is above EDGE_FACTOR times the median jump.
+    """
+    from scipy import ndimage
+
+    lap = ndimage.gaussian_laplace(image, sigma)
+    sign = lap > 0
+    jump = np.zeros_like(lap)
+    h = (sign[:, :-1] != sign[:, 1:])
+    v = (sign[:-1, :] != sign[1:, :])
+    jh = np.abs(lap[:, :-1] - lap[:, 1:]) * h
+    jv = np.abs(lap[:-1, :] - lap[1:, :]) * v
+    jump[:, :-1] = np.maximum(jump[:, :-1], jh)
+    jump[:-1, :] = np.maximum(jump[:-1, :], jv)
+    crossings = jump > 0
+    if not crossings.any():
+        return float(image.mean())
+    strong = jump > EDGE_FACTOR * np.median(jump[crossings])
+    if not strong.any():
+        return float(image.mean())
+    return float(image[strong].mean())
+
+
+class BinaryResult:
+    """What the binary system saw: candidates best-first, the stages' times, and its pictures."""
+
+    def __init__(self) -> None:
+        self.candidates: list[Sighting] = []
+        self.timings: dict[str, float] = {}
+        self.mask: Optional[np.ndarray] = None
+        self.skeleton: Optional[np.ndarray] = None
+        self.scale = 1  # averaged pixels per input pixel
+        self.dark_wires = True
+
+
+def find_wires_binary(image: np.ndarray, px_per_mm: float = 4.0) -> BinaryResult:
+    """Graspable wire ends in an image (any size; px_per_mm gives the scale)."""
+    result = BinaryResult()
+    clock = _Clock(result.timings)
+    grey = as_grey(image)
+    k = max(1, int(round(px_per_mm)))
+    small = block_average(grey, k)
+    result.scale = k
+    clock("average")
+    if small.shape[0] < 8 or small.shape[1] < 8 or float(small.std()) < 1e-3:
+        return result  # too small, or no contrast at all: nothing to see
+    t = log_threshold(small)
+    below = small < t
+    dark = bool(below.mean() < 0.5)  # the wires are the smaller class
+    mask = below if dark else ~below
+    result.dark_wires = dark
+    result.mask = mask
+    clock("threshold")
+    skeleton = thin(mask)
+    clock("thin")
+    skeleton = _prune_spurs(skeleton, max(1, int(round(SPUR_MM * px_per_mm / k))))
+    result.skeleton = skeleton
+    clock("prune")
+    mm = k / px_per_mm  # mm per averaged pixel
+    result.candidates = _analyse(skeleton, mask, mm, k)
+    clock("analyse")
+    result.timings["total"] = sum(result.timings.values())
+    return result
+
+
+class _Clock:
+    def __init__(self, into: dict) -> None:
+        self.into = into
+        self.last = time.perf_counter()
+
+    def __call__(self, stage: str) -> None:
+        now = time.perf_counter()
+        self.into[stage] = (now - self.last) * 1000.0
+        self.last = now
+
+
+def _neighbour_count(skeleton: np.ndarray) -> np.ndarray:
+    codes = neighbour_codes(skeleton)
+    return _POPCOUNT[codes] * skeleton
+
+
+_POPCOUNT = np.array([bin(i).count("1") for i in range(256)], np.uint8)
+
+
+def _trace(skeleton: np.ndarray, start: tuple[int, int], limit: int) -> tuple[list[tuple[int, int]], bool]:
+    """Follow the skeleton from an end for up to limit pixels: (path, reached a crossing)."""
+    path = [start]
+    seen = {start}
+    h, w = skeleton.shape
+    r, c = start
+    for _ in range(limit):
+        nxt = [(r + dr, c + dc) for dr, dc in NEIGHBOURS
+               if 0 <= r + dr < h and 0 <= c + dc < w and skeleton[r + dr, c + dc] and (r + dr, c + dc) not in seen]
+        if not nxt:
+            return path, False
+        if len(nxt) > 1:
+            # an edge neighbour and the diagonal next to it are one step of the same arc
+            edge = [p for p in nxt if abs(p[0] - r) + abs(p[1] - c) == 1]
+            if len(nxt) == 2 and len(edge) == 1 and max(abs(nxt[0][0] - nxt[1][0]), abs(nxt[0][1] - nxt[1][1])) == 1:
+                nxt = edge
+            else:
+                return path, True
+        r, c = nxt[0]
+        path.append((r, c))
+        seen.add((r, c))
+    return path, False
+
+
+def _prune_spurs(skeleton: np.ndarray, length: int) -> np.ndarray:
+    """Remove short branches that end at a crossing: the thinning's whiskers."""
+    sk = skeleton.copy()
+    counts = _neighbour_count(sk)
+    for r, c in zip(*np.nonzero(counts == 1)):
+        path, crossing = _trace(sk, (int(r), int(c)), length)
+        if crossing and len(path) <= length:
+            for p in path:
+                sk[p] = False
+    return sk
+
+
+def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int) -> list[Sighting]:
+    h, w = skeleton.shape
+    need = int(math.ceil((GRASP_MM + 3.0) / mm))
+    counts = _neighbour_count(skeleton)
+    out = []
+    for r, c in zip(*np.nonzero(counts == 1)):
+        r, c = int(r), int(c)
+        if r < BORDER_PX or c < BORDER_PX or r >= h - BORDER_PX or c >= w - BORDER_PX:
+            continue  # an edge is not a wire end
+        path, crossing = _trace(skeleton, (r, c), need)
+        if crossing or len(path) < need:
+            continue
+        g = int(round(GRASP_MM / mm))
+        grasp = path[g]
+        if min(grasp) < BORDER_PX or grasp[0] >= h - BORDER_PX or grasp[1] >= w - BORDER_PX:
+            continue
+        before, after = path[g - 2], path[g + 2]
+        tangent = math.degrees(math.atan2(after[0] - before[0], after[1] - before[1])) % 180.0
+        inner = path[3]
+        end_angle = math.degrees(math.atan2(inner[0] - r, inner[1] - c))
+        clearance = _clearance(mask, grasp, tangent) * mm
+        if clearance < FINGER_CLEARANCE_MM:
+            continue
+        end_uv = _to_input(c, r, k)
+        out.append(Sighting(end_uv, end_angle, _to_input(grasp[1], grasp[0], k), tangent, score=clearance))
+    out.sort(key=lambda s: -s.score)
+    return out
+
+
+def _clearance(mask: np.ndarray, at: tuple[int, int], tangent_deg: float, reach: int = 40) -> float:
+    """Free pixels on the nearer side across the wire at a point (past the wire's own width)."""
+    t = math.radians(tangent_deg + 90.0)
+    dr, dc = math.sin(t), math.cos(t)
+    h, w = mask.shape
+    sides = []
+    for sign in (1, -1):
+        free, left_wire = 0, False
+        for step in range(1, reach):
+            rr = int(round(at[0] + sign * step * dr))
+            cc = int(round(at[1] + sign * step * dc))
+            if not (0 <= rr < h and 0 <= cc < w):
+                break
+            if mask[rr, cc]:
+                if left_wire:
+                    break
+                continue
+            left_wire = True
+            free += 1
+        sides.append(free if left_wire else 0)
+    return float(min(sides))
+
+
+def _to_input(col: float, row: float, k: int) -> tuple[float, float]:
+    """An averaged pixel's centre in input pixel coordinates."""
+    return ((col + 0.5) * k - 0.5, (row + 0.5) * k - 0.5)

@@ -1,0 +1,81 @@
+"""Vision: the paper's thinning criterion, the thinning itself, and the binary system on generated trays."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy import ndimage
+
+from rcl.vision.binary import NEIGHBOURS, critically_connected, find_wires_binary, thin
+from rcl.vision.synth import KINDS, make_tray
+
+
+def neighbourhood(code: int) -> np.ndarray:
+    g = np.zeros((3, 3), bool)
+    for k, (dr, dc) in enumerate(NEIGHBOURS):
+        g[1 + dr, 1 + dc] = bool(code >> k & 1)
+    return g
+
+
+def test_critical_connectivity_is_the_neighbours_falling_into_separate_groups():
+    for code in range(256):
+        _, groups = ndimage.label(neighbourhood(code))  # 4-connected, the centre left out
+        assert critically_connected(code) == (groups > 1), code
+
+
+def test_the_papers_printed_terms_all_mark_critical_pixels():
+    # each product of the paper's expression, with its last term corrected, implies criticality
+    terms = [((1,), (3, 4, 5, 6, 7), (2, 8)), ((3,), (5, 6, 7, 8, 1), (4, 2)), ((5,), (7, 8, 1, 2, 3), (6, 4)),
+             ((7,), (1, 2, 3, 4, 5), (6, 8))]
+    for code in range(256):
+        x = [None] + [code >> (k - 1) & 1 for k in range(1, 9)]
+        for must, some, clear in terms:
+            if all(x[k] for k in must) and any(x[k] for k in some) and not any(x[k] for k in clear):
+                assert critically_connected(code), code
+
+
+def test_thinning_keeps_shapes_connected_and_one_pixel_wide():
+    rng = np.random.default_rng(0)
+    for _ in range(30):
+        img = np.zeros((60, 60), bool)
+        for _ in range(3):  # thick random strokes
+            r0, c0, r1, c1 = rng.integers(5, 55, 4)
+            n = max(abs(r1 - r0), abs(c1 - c0)) + 1
+            rr = np.linspace(r0, r1, n).round().astype(int)
+            cc = np.linspace(c0, c1, n).round().astype(int)
+            for r, c in zip(rr, cc):
+                img[max(r - 2, 0):r + 3, max(c - 2, 0):c + 3] = True
+        sk = thin(img)
+        _, before = ndimage.label(img, np.ones((3, 3)))
+        _, after = ndimage.label(sk, np.ones((3, 3)))
+        assert after == before  # no piece lost, none split
+        assert not (sk & ~img).any()
+        # one pixel wide: no 2x2 block survives
+        assert not (sk[:-1, :-1] & sk[1:, :-1] & sk[:-1, 1:] & sk[1:, 1:]).any()
+
+
+@pytest.mark.parametrize("kind", ["sparse", "crossing", "bright_on_dark", "colour"])
+def test_binary_first_pick_is_a_graspable_end_on_most_trays(kind):
+    good = 0
+    for seed in range(12):
+        tray = make_tray(kind, seed)
+        res = find_wires_binary(tray.image, tray.px_per_mm)
+        if not res.candidates:
+            continue
+        s = res.candidates[0]
+        end = np.array(s.end) / tray.px_per_mm
+        truth = min(tray.ends, key=lambda e: np.linalg.norm(e.point - end))
+        good += truth.graspable and np.linalg.norm(truth.point - end) < 2.0
+    assert good >= 6
+
+
+def test_binary_copes_with_blank_noise_and_tiny_images():
+    assert find_wires_binary(np.full((64, 64), 0.5)).candidates == []
+    assert find_wires_binary(np.random.default_rng(1).uniform(size=(256, 256))).candidates == []
+    assert find_wires_binary(np.zeros((3, 3))).candidates == []
+
+
+def test_generator_is_seeded_and_covers_every_kind():
+    for kind in KINDS:
+        a, b = make_tray(kind, 5), make_tray(kind, 5)
+        assert np.array_equal(a.image, b.image) and len(a.ends) == 2 * len(a.wires)
+    assert not np.array_equal(make_tray("sparse", 1).image, make_tray("sparse", 2).image)
