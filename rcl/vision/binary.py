@@ -166,7 +166,8 @@ def find_wires_binary(image: np.ndarray, px_per_mm: float = 4.0) -> BinaryResult
     result.skeleton = skeleton
     clock("prune")
     mm = k / px_per_mm  # mm per averaged pixel
-    result.candidates = _analyse(skeleton, mask, mm, k)
+    looks = _Looks(grey, t, dark)
+    result.candidates = _analyse(skeleton, mask, mm, k, looks, px_per_mm)
     clock("analyse")
     result.timings["total"] = sum(result.timings.values())
     return result
@@ -227,7 +228,48 @@ def _prune_spurs(skeleton: np.ndarray, length: int) -> np.ndarray:
     return sk
 
 
-def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int) -> list[Sighting]:
+class _Looks:
+    """The full-resolution image, to place a wire's end exactly (the averaged image is ~1 mm/px)."""
+
+    def __init__(self, grey: np.ndarray, threshold: float, dark: bool) -> None:
+        self.grey = grey
+        self.threshold = threshold
+        self.dark = dark
+        tray = float(np.median(grey))
+        noise = 1.4826 * float(np.median(np.abs(grey - tray)))
+        self.tray = tray
+        self.shine = max(4 * noise, 0.05)
+
+    def on_wire(self, u: float, v: float) -> bool:
+        """Insulation, or a bare conductor's shinier tip."""
+        h, w = self.grey.shape
+        r, c = int(round(v)), int(round(u))
+        if not (0 <= r < h and 0 <= c < w):
+            return False
+        g = self.grey[r, c]
+        wire = g < self.threshold if self.dark else g > self.threshold
+        return bool(wire or g > self.tray + self.shine)
+
+    def extend_end(self, u: float, v: float, du: float, dv: float, limit_px: float) -> float:
+        """How far (px) the wire goes on beyond (u, v) in the direction (du, dv)."""
+        s = np.arange(0.5, limit_px, 0.5)
+        h, w = self.grey.shape
+        cols = np.round(u + s * du).astype(int)
+        rows = np.round(v + s * dv).astype(int)
+        inside = (cols >= 0) & (cols < w) & (rows >= 0) & (rows < h)
+        g = np.where(inside, self.grey[np.clip(rows, 0, h - 1), np.clip(cols, 0, w - 1)], self.tray)
+        wire = (g < self.threshold if self.dark else g > self.threshold) | (g > self.tray + self.shine)
+        wire &= inside
+        off = np.flatnonzero(~wire)
+        # the wire ends where 1.5 px of background begin (anti-aliased edges leave single gaps)
+        run = np.convolve(~wire, np.ones(3, int), mode="valid") == 3
+        stop = int(np.argmax(run)) if run.any() else len(s)
+        on = np.flatnonzero(wire[:stop])
+        return float(s[on[-1]]) if on.size else 0.0 if off.size or not len(s) else float(s[-1])
+
+
+def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _Looks,
+             px_per_mm: float) -> list[Sighting]:
     h, w = skeleton.shape
     need = int(math.ceil((GRASP_MM + 3.0) / mm))
     counts = _neighbour_count(skeleton)
@@ -239,18 +281,30 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int) -> list[
         path, crossing = _trace(skeleton, (r, c), need)
         if crossing or len(path) < need:
             continue
-        g = int(round(GRASP_MM / mm))
+        inner = path[3]
+        base = path[min(8, len(path) - 1)]  # a longer baseline aims the search along a thin tip
+        out_r, out_c = r - base[0], c - base[1]
+        norm = math.hypot(out_r, out_c)
+        du, dv = out_c / norm, out_r / norm
+        u0, v0 = _to_input(c, r, k)
+        beyond = looks.extend_end(u0, v0, du, dv, limit_px=12.0 * px_per_mm)
+        if not (0 <= u0 + beyond * du < looks.grey.shape[1] - BORDER_PX * k
+                and 0 <= v0 + beyond * dv < looks.grey.shape[0] - BORDER_PX * k):
+            continue  # the wire runs on to the border: not an end
+        beyond_mm = beyond / px_per_mm
+        g = int(round(max(GRASP_MM - beyond_mm, 1.0) / mm))
+        if g + 2 >= len(path):
+            continue
         grasp = path[g]
         if min(grasp) < BORDER_PX or grasp[0] >= h - BORDER_PX or grasp[1] >= w - BORDER_PX:
             continue
-        before, after = path[g - 2], path[g + 2]
+        before, after = path[max(g - 2, 0)], path[g + 2]
         tangent = math.degrees(math.atan2(after[0] - before[0], after[1] - before[1])) % 180.0
-        inner = path[3]
         end_angle = math.degrees(math.atan2(inner[0] - r, inner[1] - c))
         clearance = _clearance(mask, grasp, tangent) * mm
         if clearance < FINGER_CLEARANCE_MM:
             continue
-        end_uv = _to_input(c, r, k)
+        end_uv = (u0 + beyond * du, v0 + beyond * dv)
         out.append(Sighting(end_uv, end_angle, _to_input(grasp[1], grasp[0], k), tangent, score=clearance))
     out.sort(key=lambda s: -s.score)
     return out

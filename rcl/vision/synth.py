@@ -148,6 +148,7 @@ def _render(ws: list[Wire], size: int, px_per_mm: float, kind: str, rng) -> np.n
         fine[fv[ok], fu[ok]] = True
         dist = ndimage.distance_transform_edt(~fine) / 2.0
         cover = np.clip(r - dist + 0.5, 0.0, 1.0)
+        cover = cover * _inside_ends(w, fine.shape, (r0, c0), px_per_mm)  # cut wires end flat
         cover = cover.reshape(r1 - r0, 2, c1 - c0, 2).mean(axis=(1, 3))
         shade = np.array(w.level, float).reshape(1, 1, -1)
         if kind == "bright_on_dark":
@@ -164,6 +165,22 @@ def _render(ws: list[Wire], size: int, px_per_mm: float, kind: str, rng) -> np.n
     img = img + rng.normal(0.0, 0.02, img.shape)
     img = np.clip(img, 0.0, 1.0)
     return img[..., 0] if channels == 1 else img
+
+
+def _inside_ends(w: Wire, fine_shape, origin, px_per_mm) -> np.ndarray:
+    """Coverage factor (on the 2x grid) that cuts the wire square at both ends."""
+    rows, cols = np.mgrid[0:fine_shape[0], 0:fine_shape[1]]
+    u = (cols / 2.0 + origin[1]) / px_per_mm
+    v = (rows / 2.0 + origin[0]) / px_per_mm
+    keep = np.ones(fine_shape)
+    for end in (0, 1):
+        p = w.point_at(end, 0.0)
+        q = w.point_at(end, 1.0)
+        inward = (q - p) / max(np.linalg.norm(q - p), 1e-9)
+        ahead = (u - p[0]) * inward[0] + (v - p[1]) * inward[1]  # mm past the end face, inwards
+        near = np.hypot(u - p[0], v - p[1]) < 2 * w.width
+        keep = np.where(near, keep * np.clip(ahead * px_per_mm * 2 + 0.5, 0.0, 1.0), keep)
+    return keep
 
 
 def _stripped_tips(w: Wire, cover, shade, dist, r, px_per_mm, origin):
