@@ -106,8 +106,8 @@ def test_a_real_terminal_session_with_pexpect(tmp_path):
         child.sendline("x + 1")
         child.expect_exact("42")
         child.expect_exact("rcl>")
-        child.sendline("WRITELN('running') WHILE TRUE DO x := 1 END")
-        child.expect_exact("running")  # the statement runs: the prompt has let go of the terminal
+        child.sendline("WRITELN('run', 'ning') WHILE TRUE DO x := 1 END")
+        child.expect_exact("running")  # output, not the echo: the statement runs, the prompt let go
         child.sendintr()
         child.expect_exact("stopped: interrupted (Ctrl-C)")
         child.expect_exact("rcl>")
