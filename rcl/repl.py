@@ -45,6 +45,7 @@ class Repl:
         self.new_session = new_session
         self.session = new_session()
         self._out = out
+        self.typeahead = ""  # keys typed while a statement ran, for the next prompt
 
     @property
     def out(self) -> TextIO:
@@ -87,8 +88,8 @@ class Repl:
         """Run action in a worker thread; Ctrl-C meanwhile cancels the session's program.
 
         On a terminal the main thread reads the keyboard itself (the terminal without
-        ISIG, so Ctrl-C is a byte, not a signal); a signal is not always seen by a busy
-        Python 3.11 process when another thread takes it. Elsewhere it waits for SIGINT.
+        ISIG, so Ctrl-C is a byte, not a signal): a SIGINT taken by another thread is
+        not always seen by a busy Python 3.11 process. Elsewhere SIGINT sets a flag.
         """
         result: dict = {}
         done = threading.Event()
@@ -100,16 +101,27 @@ class Repl:
                 result["error"] = e
             finally:
                 done.set()
-        threading.Thread(target=work, name="rcl statement", daemon=True).start()
-        with _keyboard() as keys:
-            while not done.is_set():
-                try:
+        stop = threading.Event()
+        on_main = threading.current_thread() is threading.main_thread()
+        # meanwhile SIGINT only raises a flag: no KeyboardInterrupt can land mid-way (say, in Thread.start)
+        previous = signal.signal(signal.SIGINT, lambda *_: stop.set()) if on_main else None
+        try:
+            with _keyboard() as keys:
+                threading.Thread(target=work, name="rcl statement", daemon=True).start()
+                while not done.is_set():
+                    if stop.is_set():  # again until the program has seen it (it may not have started)
+                        self.session.cancel("interrupted (Ctrl-C)", by_user=True)
                     if keys is None:
-                        done.wait(0.05)  # not Thread.join: an interrupted join can leave is_alive() wrong
-                    elif b"\x03" in keys(0.05):
-                        raise KeyboardInterrupt
-                except KeyboardInterrupt:
-                    self.session.cancel("interrupted (Ctrl-C)", by_user=True)
+                        done.wait(0.05)
+                        continue
+                    typed = keys(0.05)
+                    if b"\x03" in typed:
+                        stop.set()
+                        typed = typed.split(b"\x03")[-1]
+                    self.typeahead += _printable(typed)
+        finally:
+            if on_main:
+                signal.signal(signal.SIGINT, previous)
         if "error" in result:
             raise result["error"]
         return result["value"]
@@ -216,18 +228,24 @@ class Repl:
 
         path = history_path()
         history = FileHistory(str(path)) if path is not None else InMemoryHistory()
-        with _sigint_blocked():
-            prompt = PromptSession(multiline=True, key_bindings=keys, lexer=PygmentsLexer(RclLexer),
-                                   completer=RclCompleter(), history=history, input=input, output=output,
-                                   prompt_continuation=lambda width, line, soft: CONTINUATION)
+        prompt = PromptSession(multiline=True, key_bindings=keys, lexer=PygmentsLexer(RclLexer),
+                               completer=RclCompleter(), history=history, input=input, output=output,
+                               prompt_continuation=lambda width, line, soft: CONTINUATION)
         while True:
-            try:
-                with _sigint_blocked():
-                    text = prompt.prompt(PROMPT)
-            except KeyboardInterrupt:
-                continue  # Ctrl-C at the prompt (a key there, not a signal) drops the line
-            except EOFError:
-                return 0
+            ahead, self.typeahead = self.typeahead, ""
+            if "\n" in ahead:  # a whole line typed while the last statement ran: run it now
+                text, rest = ahead.split("\n", 1)
+                self.typeahead = rest
+                self.say(PROMPT + text)
+                if text.strip():
+                    history.append_string(text)
+            else:
+                try:
+                    text = prompt.prompt(PROMPT, default=ahead)
+                except KeyboardInterrupt:
+                    continue  # Ctrl-C at the prompt drops the line
+                except EOFError:
+                    return 0
             if not self.handle(text):
                 return 0
 
@@ -261,22 +279,10 @@ def _keyboard():
         termios.tcsetattr(fd, termios.TCSADRAIN, old)
 
 
-@contextlib.contextmanager
-def _sigint_blocked():
-    """Block SIGINT in this thread while prompt_toolkit runs.
-
-    Threads it starts inherit the mask. Otherwise the kernel may hand a later
-    Ctrl-C to one of them, and CPython 3.11 then never tells the busy main
-    thread, so a running statement could not be interrupted.
-    """
-    if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+def _printable(data: bytes) -> str:
+    """Typed bytes as text for the next prompt: Enter as a newline, control keys dropped."""
+    text = data.decode("utf-8", "ignore").replace("\r", "\n")
+    return "".join(c for c in text if c == "\n" or c == "\t" or c >= " ")
 
 
 def show(value, short: bool = False) -> str:
