@@ -192,15 +192,14 @@ def _neighbour_count(skeleton: np.ndarray) -> np.ndarray:
 _POPCOUNT = np.array([bin(i).count("1") for i in range(256)], np.uint8)
 
 
-def _trace(skeleton: np.ndarray, start: tuple[int, int], limit: int) -> tuple[list[tuple[int, int]], bool]:
-    """Follow the skeleton from an end for up to limit pixels: (path, reached a crossing)."""
+def _trace(skeleton: set, start: tuple[int, int], limit: int) -> tuple[list[tuple[int, int]], bool]:
+    """Follow the skeleton (a set of (row, column)) from an end for up to limit pixels:
+    (path, reached a crossing)."""
     path = [start]
     seen = {start}
-    h, w = skeleton.shape
     r, c = start
     for _ in range(limit):
-        nxt = [(r + dr, c + dc) for dr, dc in NEIGHBOURS
-               if 0 <= r + dr < h and 0 <= c + dc < w and skeleton[r + dr, c + dc] and (r + dr, c + dc) not in seen]
+        nxt = [p for p in ((r + dr, c + dc) for dr, dc in NEIGHBOURS) if p in skeleton and p not in seen]
         if not nxt:
             return path, False
         if len(nxt) > 1:
@@ -219,12 +218,14 @@ def _trace(skeleton: np.ndarray, start: tuple[int, int], limit: int) -> tuple[li
 def _prune_spurs(skeleton: np.ndarray, length: int) -> np.ndarray:
     """Remove short branches that end at a crossing: the thinning's whiskers."""
     sk = skeleton.copy()
+    pixels = set(zip(*(a.tolist() for a in np.nonzero(sk))))
     counts = _neighbour_count(sk)
-    for r, c in zip(*np.nonzero(counts == 1)):
-        path, crossing = _trace(sk, (int(r), int(c)), length)
+    for r, c in zip(*(a.tolist() for a in np.nonzero(counts == 1))):
+        path, crossing = _trace(pixels, (r, c), length)
         if crossing and len(path) <= length:
             for p in path:
                 sk[p] = False
+                pixels.discard(p)
     return sk
 
 
@@ -235,8 +236,9 @@ class _Looks:
         self.grey = grey
         self.threshold = threshold
         self.dark = dark
-        tray = float(np.median(grey))
-        noise = 1.4826 * float(np.median(np.abs(grey - tray)))
+        sample = grey[::4, ::4]  # a 1-in-16 subsample estimates the tray's level and noise as well
+        tray = float(np.median(sample))
+        noise = 1.4826 * float(np.median(np.abs(sample - tray)))
         self.tray = tray
         self.shine = max(4 * noise, 0.05)
 
@@ -273,12 +275,12 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
     h, w = skeleton.shape
     need = int(math.ceil((GRASP_MM + 3.0) / mm))
     counts = _neighbour_count(skeleton)
+    pixels = set(zip(*(a.tolist() for a in np.nonzero(skeleton))))
     out = []
-    for r, c in zip(*np.nonzero(counts == 1)):
-        r, c = int(r), int(c)
+    for r, c in zip(*(a.tolist() for a in np.nonzero(counts == 1))):
         if r < BORDER_PX or c < BORDER_PX or r >= h - BORDER_PX or c >= w - BORDER_PX:
             continue  # an edge is not a wire end
-        path, crossing = _trace(skeleton, (r, c), need)
+        path, crossing = _trace(pixels, (r, c), need)
         if crossing or len(path) < need:
             continue
         inner = path[3]
