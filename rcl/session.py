@@ -47,7 +47,8 @@ class Session:
         """robot: a rcl.robots.Robot (default: a SimRobot of the smartarms model); camera: anything with
         grab() -> image array, such as rcl.camera.ImageFiles (default: none);
         camera_model: a rcl.camera.Calibration (default: a new, empty one);
-        wire_finder: f(image, method) -> rcl.vision.Sighting | None for BINWIRE and GREYWIRE;
+        wire_finder: f(image, method) -> rcl.vision.Sighting | None for BINWIRE and GREYWIRE
+        (default: the paper's systems, rcl.vision.find_wires);
         out: where WRITE goes (default: sys.stdout); step_budget: stop a run after this many
         loop iterations and routine calls; search_path: extra folders for IMPORT."""
         from .camera import Calibration
@@ -57,6 +58,9 @@ class Session:
         self.camera_model = camera_model if camera_model is not None else Calibration()
         self.step_budget = step_budget
         self.search_path = [Path(p) for p in search_path]
+        self.px_per_mm = 4.0  # the camera's scale, for the vision systems' millimetre sizes
+        if wire_finder is None:
+            wire_finder = self._find_wire
         self._ctx = Context(self.robot, self.camera, self.camera_model, wire_finder, out)
         self._scope = GlobalScope(builtins=default_builtins())
         self._values: list = []
@@ -107,6 +111,17 @@ class Session:
         if diagnostics:
             raise RclStaticError(diagnostics)
         return expr, t, scope, module
+
+    def _find_wire(self, image, method: str):
+        """The default wire finder: the best candidate of the paper's system by that name."""
+        from .errors import BuiltinError
+        from .vision import VisionError, find_wires
+
+        try:
+            found = find_wires(image, method, self.px_per_mm).candidates
+        except VisionError as e:
+            raise BuiltinError(str(e)) from None
+        return found[0] if found else None
 
     def cancel(self, reason: str = "cancelled", by_user: bool = False) -> None:
         """Stop the running program at its next loop iteration or call (safe from any thread).

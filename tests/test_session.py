@@ -202,7 +202,7 @@ def test_vision_builtins_turn_pixels_into_wire_frames_through_the_camera_model()
     from rcl.camera import Calibration
     from rcl.vision import Sighting
 
-    with pytest.raises(RclRuntimeError, match="no grey wire finder"):
+    with pytest.raises(RclRuntimeError, match="no camera"):
         Session(out=io.StringIO()).run("IF GREYWIRE(W^, WG^) THEN WRITELN('seen') END")
 
     class Model(Calibration):  # a camera looking straight down: x = 100 + u / 2, y = 50 - v / 2 (v runs down)

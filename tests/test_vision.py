@@ -79,3 +79,32 @@ def test_generator_is_seeded_and_covers_every_kind():
         a, b = make_tray(kind, 5), make_tray(kind, 5)
         assert np.array_equal(a.image, b.image) and len(a.ends) == 2 * len(a.wires)
     assert not np.array_equal(make_tray("sparse", 1).image, make_tray("sparse", 2).image)
+
+
+def test_binwire_in_rcl_finds_a_true_end_through_the_camera_model(tmp_path):
+    import io
+
+    from PIL import Image
+
+    from rcl import Session
+    from rcl.camera import ImageFiles
+    from rcl.robots import RecordingArm
+
+    tray = make_tray("bright_on_dark", 3)
+    Image.fromarray((tray.image * 255).round().astype(np.uint8)).save(tmp_path / "tray.png")
+    # the camera model: pixel centres (u, v) are at ((u + 0.5) / 4, (v + 0.5) / 4) mm on the tray
+    points = "\n".join(f"CALPOINT({u}, {v}, {(u + 0.5) / 4}, {(v + 0.5) / 4})"
+                       for u in np.linspace(0, 511, 6) for v in np.linspace(0, 511, 6))
+    out = io.StringIO()
+    s = Session(out=out, robot=RecordingArm(), camera=ImageFiles(tmp_path / "tray.png"))
+    s.run(points + "\nrms := FITWARP()\nIF BINWIRE(W^, WG^) THEN WRITELN('seen') ELSE WRITELN('none') END")
+    assert out.getvalue() == "seen\n"
+    w = s["W^"].matrix
+    end = w[:2, 3]
+    truth = min(tray.ends, key=lambda e: np.linalg.norm(e.point - end))
+    assert truth.graspable and np.linalg.norm(truth.point - end) < 1.5
+    np.testing.assert_allclose(w[:3, 0], [0, 0, 1], atol=1e-9)  # X up out of the tray
+    assert float(w[:2, 2] @ truth.direction) > np.cos(np.radians(20))  # Z along the wire, into it
+    g = w @ s["WG^"].matrix
+    grasp_from_end = np.linalg.norm(g[:2, 3] - truth.point)
+    assert 11 <= grasp_from_end <= 19
