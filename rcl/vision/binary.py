@@ -10,13 +10,16 @@
    indexed by the 3x3 neighbourhood (thin()).
 5. Skeleton analysis: arc ends whose first GRASP_MM + 3 mm of skeleton meet no
    crossing and do not touch the image border; the grasp point GRASP_MM along
-   the skeleton, the wire's tangent there from the skeletal points +-2 px, the
-   end's direction from the end and the point 3 px in, and the clearance to the
-   neighbouring wires across the grasp point.
+   the skeleton, the wire's tangent there from skeletal points either side, the
+   end's direction from the end and a point further in, and the clearance to
+   the neighbouring wires across the grasp point.
 
 Deviations (each needed on harder scenes): spurs shorter than SPUR_MM are
-pruned before the analysis, and the block size follows the scale for images
-that are not 512 px at 4 px/mm.
+pruned before the analysis; the block size follows the scale for images that
+are not 512 px at 4 px/mm; the tangent and end direction use TANGENT_PX and
+END_PX instead of the paper's 2 and 3 pixels (too coarse at ~1 mm per pixel);
+only zero crossings with a real edge set the threshold (log_threshold); and each
+end is placed at full resolution by following the wire outwards (_Looks).
 """
 from __future__ import annotations
 
@@ -34,6 +37,8 @@ GRASP_MM = 15.0
 FINGER_CLEARANCE_MM = 4.0
 SPUR_MM = 3.0
 EDGE_FACTOR = 4.0
+TANGENT_PX = 4  # the paper takes +-2 skeletal points; at ~1 mm per pixel that quantises to tens of degrees
+END_PX = 6  # likewise the end direction: from the end to the point 6 px in (the paper: 3)
 BORDER_PX = 2  # skeleton ends this close to the border of the averaged image are cut by it
 
 # The 3x3 neighbours, numbered as in the paper: 1 = E, then anticlockwise to 8 = SE.
@@ -294,14 +299,17 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
                 and 0 <= v0 + beyond * dv < looks.grey.shape[0] - BORDER_PX * k):
             continue  # the wire runs on to the border: not an end
         beyond_mm = beyond / px_per_mm
-        g = int(round(max(GRASP_MM - beyond_mm, 1.0) / mm))
-        if g + 2 >= len(path):
+        steps = np.hypot(*np.diff(np.array(path), axis=0).T)  # diagonal steps are sqrt(2) long
+        arc = np.concatenate([[0.0], np.cumsum(steps)]) * mm
+        g = int(np.searchsorted(arc, max(GRASP_MM - beyond_mm, 1.0)))
+        if g + TANGENT_PX >= len(path):
             continue
         grasp = path[g]
         if min(grasp) < BORDER_PX or grasp[0] >= h - BORDER_PX or grasp[1] >= w - BORDER_PX:
             continue
-        before, after = path[max(g - 2, 0)], path[g + 2]
+        before, after = path[max(g - TANGENT_PX, 0)], path[g + TANGENT_PX]
         tangent = math.degrees(math.atan2(after[0] - before[0], after[1] - before[1])) % 180.0
+        inner = path[min(END_PX, len(path) - 1)]
         end_angle = math.degrees(math.atan2(inner[0] - r, inner[1] - c))
         clearance = _clearance(mask, grasp, tangent) * mm
         if clearance < FINGER_CLEARANCE_MM:
