@@ -375,8 +375,8 @@ class Checker:
             elif T.is_frame(t) and field == "p":
                 e.type = T.VECTOR
             elif T.is_frame(t) and field in ("n", "o", "a"):
-                self.error(e.name.span, f"only .P of a frame can be assigned; build rotations "
-                                        f"with ROT, RPY or FRAME")
+                self.error(e.name.span, "only .P of a frame can be assigned; build rotations "
+                                        "with ROT, RPY or FRAME")
                 e.type = T.ANY
             else:
                 e.type = self._field_type(e, t)

@@ -21,7 +21,7 @@ from .builtins import Builtin, Ref
 from .errors import BuiltinError, RclCancelled, RclRuntimeError, StackEntry
 from .frame import Frame, FrameError
 from .scope import GlobalScope, Routine, Variable
-from .values import Array, default_factory
+from .values import default_factory
 
 RETURN = "return"  # what a statement closure gives when a RETURN ran
 MAX_CALL_DEPTH = 1000

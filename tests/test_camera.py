@@ -10,7 +10,7 @@ from PIL import Image
 
 from conftest import rcl
 from rcl import RclRuntimeError, Session
-from rcl.camera import (BicubicWarp, Calibration, CameraModelError, ImageError, ImageFiles, LinearCamera,
+from rcl.camera import (BicubicWarp, CameraModelError, ImageError, ImageFiles, LinearCamera,
                         find_mark, read_image)
 from rcl.camera import fileformat
 from rcl.camera.simulated import PinholeCamera, render_disc

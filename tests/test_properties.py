@@ -6,7 +6,6 @@ import contextlib
 import io
 import random
 import re
-from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, given, settings

@@ -3,8 +3,6 @@ from __future__ import annotations
 
 import io
 import math
-import subprocess
-import sys
 import time
 
 import numpy as np
