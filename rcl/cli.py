@@ -130,30 +130,30 @@ def _finish(robot, args) -> None:
         robot.close_port()
 
 
-def _run(args) -> int:
+def _with_setup(args, body) -> int:
+    """body(new_session) with the camera and robot the options ask for; the robot is finished after."""
     try:
         robot, new_session = _session_factory(args)
     except _SetupError as e:
         return _fail(str(e), EXIT_STATIC)
     try:
-        return _run_session(new_session(), args)
+        return body(new_session)
     finally:
         _finish(robot, args)
 
 
+def _run(args) -> int:
+    return _with_setup(args, lambda new_session: _run_session(new_session(), args))
+
+
 def _repl(args) -> int:
-    try:
-        robot, new_session = _session_factory(args)
-    except _SetupError as e:
-        return _fail(str(e), EXIT_STATIC)
-    try:
+    def body(new_session) -> int:
         if not sys.stdin.isatty():
             return _run_session(new_session(), args, sys.stdin.read())  # piped input runs as a script
         from .repl import Repl
 
         return Repl(new_session).loop()
-    finally:
-        _finish(robot, args)
+    return _with_setup(args, body)
 
 
 def _run_session(session, args, source: Optional[str] = None) -> int:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import inspect
 import typing
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any, Callable, Optional
 
 from ..types import INTEGER, NUMBER, REAL, Type, from_annotation, is_frame
@@ -95,11 +96,13 @@ class Builtin:
 
 
 def default_builtins() -> dict[str, Builtin]:
-    """A fresh table of every built-in, keyed by case-folded name."""
+    """A fresh table of every built-in, keyed by case-folded name (the Builtins are shared: never mutated)."""
+    return dict(_builtin_table())
+
+
+@lru_cache(maxsize=1)
+def _builtin_table() -> tuple[tuple[str, Builtin], ...]:
     from . import camera, core, motion, vision
 
-    table: dict[str, Builtin] = {}
-    for module in (core, motion, vision, camera):
-        for name, func in module.BUILTINS.items():
-            table[name.lower()] = Builtin.from_function(name, func)
-    return table
+    return tuple((name.lower(), Builtin.from_function(name, func))
+                 for module in (core, motion, vision, camera) for name, func in module.BUILTINS.items())
