@@ -23,7 +23,9 @@ def find_wires(image, method: str = "binary", px_per_mm: float = 4.0):
 
         return find_wires_binary(image, px_per_mm)
     if method == "grey":
-        raise VisionError("the grey-scale system is not built yet; use the binary one (--method binary)")
+        from .grey import find_wires_grey
+
+        return find_wires_grey(image, px_per_mm)
     raise VisionError(f"unknown method {method!r} (binary or grey)")
 
 

@@ -1,0 +1,556 @@
+"""The paper's grey-scale vision system: follow wire boundaries, read wire ends off them.
+
+1. 2 x 2 averaging (512 x 512 -> 256 x 256, about 2 px/mm: the working image) and
+   a further 4 x 4 averaging to a 64 x 64 image for planning.
+2. Prewitt edges (edges()): magnitude and direction at any point of the working image.
+3. The interest operator: the planning image is divided 4 x 4 and its regions are
+   visited in order of how much edge they hold, fewest first, skipping regions
+   with none: uncluttered areas that still contain wire come first.
+4. Dynamic contour following (_Tracer) from the strongest edge point of a region:
+   each step goes to the neighbour, of the three ahead, with the largest edge
+   magnitude whose edge direction agrees with the step (a change of direction of
+   at most 45 degrees a step); over a gap the search looks in two zones 1 and 2 px
+   further ahead; when the trace stops it resumes from the start point in reverse;
+   the thick edge response normal to the boundary is suppressed as the trace
+   passes, so no other trace runs along the same edge. The boundary is kept as a
+   Freeman chain code.
+5. The wire-end heuristic: a boundary segment of SEGMENT units whose direction at
+   one end differs by 180 degrees (within END_TURN_TOL) from its direction at the
+   other, with its end points at most GAP units apart: the boundary turning round
+   a wire's end.
+6. The isolation test: along both sides of the wire, from the end to past the
+   grasp point, the edge magnitude normal to the boundary stays below the edge
+   threshold for a finger's clearance: no other wire is near.
+7. The end point and direction, the grasp point GRASP_MM along the wire and the
+   wire's tangent there, from the centre line between the two sides.
+
+Deviations (each needed on harder scenes, see docs/vision.md): the edge threshold is
+set from the image's own noise (a robust estimate from the median edge magnitude)
+rather than fixed; the isolation test uses the working image's edges, not the
+64 x 64 image's (at 2 mm a pixel those cannot tell a finger's clearance); the two
+sides of a candidate end must stay parallel and the wire's width constant to the
+grasp point (a wire that merges with another is not free); an end whose boundary
+turns round in front of a thinner, brighter continuation (a stripped conductor or
+ferrule) is moved out to the conductor's tip; the unit lengths scale with the
+working image's px/mm when an image is not 2 px/mm after averaging.
+"""
+from __future__ import annotations
+
+import math
+import time
+from typing import Optional
+
+import numpy as np
+
+from ..camera.images import as_grey
+from .sighting import Sighting
+
+GRASP_MM = 15.0
+SPAN_MM = 20.0  # the length of wire, from the end, that must be free (grasp point + 5 mm)
+CLEARANCE_MM = 4.5  # from the wire's centre to any other wire, at the grasp point: room for the fingers
+FREE_MM = 0.5  # free tray needed beside the rest of the span (past the edge response), and beyond the end
+WORK_PX_PER_MM = 2.0  # the working image's scale for a 512 image at 4 px/mm
+SEGMENT = 20  # units (working px at 2 px/mm) of boundary in the wire-end heuristic
+GAP = 5  # at most this far apart, the segment's two end points
+END_TURN_TOL = 40.0  # degrees from an exact reversal that still count as one
+MAX_TURN = 1  # Freeman steps (45 degrees) the trace may turn per step
+EDGE_NOISE_FACTOR = 3.5  # edge threshold, in units of the noise's edge magnitude
+
+# Freeman chain code directions: 0 = E, anticlockwise as seen on the screen (row - 1 is up).
+STEPS = ((0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1), (1, 0), (1, 1))
+PAD = 4  # the working image is padded with zero edge so traces stop at the border
+
+
+class GreyResult:
+    """What the grey-scale system saw: candidates best-first, stage times, and its boundaries."""
+
+    def __init__(self) -> None:
+        self.candidates: list[Sighting] = []
+        self.timings: dict[str, float] = {}
+        self.contours: list[np.ndarray] = []  # (N, 2) input-pixel (u, v) boundary points
+        self.chains: list[tuple[tuple[int, int], bytes]] = []  # working (row, col) start and Freeman codes
+        self.threshold = 0.0
+        self.scale = 1  # input pixels per working pixel
+        self.region_order: list[tuple[int, int]] = []  # planning regions (row, col) in visiting order
+
+
+def block_average(grey: np.ndarray, k: int) -> np.ndarray:
+    if k == 1:
+        return grey
+    h, w = grey.shape[0] // k * k, grey.shape[1] // k * k
+    return grey[:h, :w].reshape(h // k, k, w // k, k).mean(axis=(1, 3))
+
+
+def edges(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Prewitt gradient (d/dcolumn, d/drow) of an image, each normalised to grey levels per px."""
+    from scipy import ndimage
+
+    gc = ndimage.prewitt(image, axis=1) / 6.0
+    gr = ndimage.prewitt(image, axis=0) / 6.0
+    return gc, gr
+
+
+def edge_at(image: np.ndarray, r: int, c: int) -> tuple[float, float]:
+    """The Prewitt gradient at one interior point, computed on demand (the paper's way)."""
+    w = image[r - 1:r + 2, c - 1:c + 2]
+    gc = (w[:, 2].sum() - w[:, 0].sum()) / 6.0
+    gr = (w[2, :].sum() - w[0, :].sum()) / 6.0
+    return float(gc), float(gr)
+
+
+def edge_threshold(magnitude: np.ndarray) -> float:
+    """An edge is EDGE_NOISE_FACTOR times the noise's typical edge magnitude.
+
+    Most of a tray is flat, so the median magnitude is the noise's (for Gaussian
+    noise the magnitude is Rayleigh: median = 1.18 sigma). A noiseless image gets
+    a floor from its strongest edges.
+    """
+    sigma = float(np.median(magnitude)) / 1.1774
+    strong = float(np.percentile(magnitude, 99.5))
+    return max(EDGE_NOISE_FACTOR * sigma, 0.08 * strong, 1e-3)
+
+
+def find_wires_grey(image: np.ndarray, px_per_mm: float = 4.0) -> GreyResult:
+    """Graspable wire ends in an image (any size; px_per_mm gives the scale)."""
+    result = GreyResult()
+    clock = _Clock(result.timings)
+    grey = as_grey(image)
+    k = max(1, int(round(px_per_mm / WORK_PX_PER_MM)))
+    work = block_average(grey, k)
+    plan = block_average(work, 4)
+    result.scale = k
+    clock("average")
+    if min(plan.shape) < 4 or float(work.std()) < 1e-3:
+        return result
+    gc, gr = edges(work)
+    mag = np.hypot(gc, gr)
+    t = edge_threshold(mag)
+    result.threshold = t
+    clock("edges")
+    order = interest_order(plan, t)
+    result.region_order = order
+    clock("interest")
+    ppm = px_per_mm / k  # working px per mm
+    unit = ppm / WORK_PX_PER_MM  # the paper's units at this scale
+    tracer = _Tracer(gc, gr, mag, t)
+    chains = []
+    rh, rw = work.shape[0] / 4.0, work.shape[1] / 4.0
+    for (i, j) in order:
+        r0, r1 = int(i * rh), int((i + 1) * rh)
+        c0, c1 = int(j * rw), int((j + 1) * rw)
+        for start in tracer.starts(r0, r1, c0, c1):
+            chain = tracer.follow(start)
+            if chain is not None and len(chain[1]) >= SEGMENT * unit:
+                chains.append(chain)
+    result.chains = chains
+    clock("follow")
+    looks = _Looks(work, mag, t, ppm)
+    result.looks = looks
+    found = []
+    for chain in chains:
+        pts = chain_points(*chain)
+        result.contours.append(_to_input(pts, k))
+        found.extend(looks.wire_ends(pts, unit))
+    clock("ends")
+    found.sort(key=lambda s: -s.score)
+    kept: list[Sighting] = []
+    for s in found:  # one sighting per wire end
+        if all(math.dist(s.end, o.end) > 2.0 * ppm for o in kept):
+            kept.append(s)
+    result.candidates = [Sighting(tuple(_to_input(np.array([s.end[::-1]]), k)[0]), s.end_angle,
+                                  tuple(_to_input(np.array([s.grasp[::-1]]), k)[0]), s.grasp_angle, s.score)
+                         for s in kept]
+    clock("isolate")
+    result.timings["total"] = sum(result.timings.values())
+    return result
+
+
+def interest_order(plan: np.ndarray, threshold: float) -> list[tuple[int, int]]:
+    """The 4 x 4 regions of the planning image, those with least edge (but some) first."""
+    gc, gr = edges(plan)
+    mag = np.hypot(gc, gr)
+    h, w = plan.shape
+    counts = []
+    for i in range(4):
+        for j in range(4):
+            block = mag[i * h // 4:(i + 1) * h // 4, j * w // 4:(j + 1) * w // 4]
+            n = int((block > threshold).sum())
+            if n:
+                counts.append((n, i, j))
+    counts.sort()
+    return [(i, j) for _, i, j in counts]
+
+
+def chain_points(start: tuple[int, int], codes: bytes) -> np.ndarray:
+    """(N + 1, 2) float (row, col) points of a Freeman chain from its start."""
+    steps = np.array(STEPS, float)
+    if not codes:
+        return np.array([start], float)
+    moves = steps[np.frombuffer(codes, np.uint8)]
+    return np.vstack([[start], start + np.cumsum(moves, axis=0)])
+
+
+class _Tracer:
+    """Dynamic contour following on the working image's edges (flat lists: fast in Python)."""
+
+    def __init__(self, gc: np.ndarray, gr: np.ndarray, mag: np.ndarray, threshold: float) -> None:
+        h, w = mag.shape
+        self.h, self.w = h, w
+        self.W = w + 2 * PAD
+        pad = lambda a: np.pad(a, PAD).ravel()  # noqa: E731
+        self.mag_np = np.pad(mag, PAD)
+        self.mag = self.mag_np.ravel().tolist()
+        n = np.maximum(mag, 1e-12)
+        # the boundary's direction: the gradient (dark -> bright) turned 90 degrees,
+        # so that the darker side is always on the same hand
+        self.tc = pad(-gr / n).tolist()
+        self.tr = pad(gc / n).tolist()
+        self.t = threshold
+        self.low = 0.6 * threshold  # a boundary, once found, is followed down to this
+        self.owner = [0] * ((h + 2 * PAD) * self.W)
+        self.offs = [dr * self.W + dc for dr, dc in STEPS]
+        self.unit = [(dr / math.hypot(dr, dc), dc / math.hypot(dr, dc)) for dr, dc in STEPS]
+        self.count = 0
+        self.ride_max = 2 * SEGMENT  # steps a trace may run along another's boundary
+        ridge = _ridge(mag, gc, gr) & (mag > threshold)
+        self.ridge = ridge
+
+    def starts(self, r0: int, r1: int, c0: int, c1: int):
+        """The region's ridge points, strongest first, that no trace has passed."""
+        block = self.ridge[r0:r1, c0:c1]
+        rr, cc = np.nonzero(block)
+        if not rr.size:
+            return
+        W, owner = self.W, self.owner
+        m = self.mag_np[rr + r0 + PAD, cc + c0 + PAD]
+        for i in np.argsort(-m, kind="stable").tolist():
+            p = (int(rr[i]) + r0 + PAD) * W + int(cc[i]) + c0 + PAD
+            if owner[p] or owner[p + 1] or owner[p - 1] or owner[p + W] or owner[p - W]:
+                continue
+            yield p
+
+    def follow(self, p0: int) -> Optional[tuple[tuple[int, int], bytes]]:
+        """Trace the boundary through p0 both ways: (start (row, col), Freeman codes)."""
+        self.count += 1
+        me = self.count
+        d0 = self._direction(p0, 1)
+        self.owner[p0] = me
+        ahead, closed = self._run(p0, d0, 1, me)
+        back = []
+        if not closed:
+            back, _ = self._run(p0, (d0 + 4) % 8, -1, me)
+        # the backward run walked the boundary in reverse: flip it to run forwards
+        codes = [(c + 4) % 8 for c in reversed(back)] + ahead
+        end = p0
+        for c in back:
+            end += self.offs[c]
+        r, c = divmod(end, self.W)
+        return (r - PAD, c - PAD), bytes(codes)
+
+    def _direction(self, p: int, sense: int) -> int:
+        a = math.atan2(-sense * self.tr[p], sense * self.tc[p])  # screen angle: row up is positive
+        return int(round(a / (math.pi / 4))) % 8
+
+    def _run(self, p: int, d: int, sense: int, me: int) -> tuple[list[int], bool]:
+        mag, tr, tc, owner, offs, unit = self.mag, self.tr, self.tc, self.owner, self.offs, self.unit
+        low = self.low
+        codes: list[int] = []
+        start = p
+        W = self.W
+        ride, ride_max = 0, self.ride_max
+        for _ in range(40000):
+            best, best_d, best_s = -1, 0, 0.0
+            for turn in (0, -1, 1):
+                k = (d + turn) % 8
+                q = p + offs[k]
+                m = mag[q]
+                if m < low:
+                    continue
+                ur, uc = unit[k]
+                agree = sense * (tr[q] * ur + tc[q] * uc)
+                if agree < 0.3:
+                    continue
+                s = m * agree
+                if s > best_s:
+                    best, best_d, best_s = q, k, s
+            jump = 1
+            if best < 0:  # a gap: look in the zones 1 and 2 px further ahead
+                for jump in (2, 3):
+                    for turn in (0, -1, 1):
+                        k = (d + turn) % 8
+                        q = p + jump * offs[k]
+                        if q < 0 or q >= len(mag):
+                            continue
+                        m = mag[q]
+                        if m < self.t:
+                            continue
+                        ur, uc = unit[k]
+                        agree = sense * (tr[q] * ur + tc[q] * uc)
+                        if agree < 0.5:
+                            continue
+                        s = m * agree
+                        if s > best_s:
+                            best, best_d, best_s = q, k, s
+                    if best >= 0:
+                        break
+                if best < 0:
+                    return codes, False
+            o = owner[best]
+            if o and o != me:
+                ride += jump  # on another trace's boundary: through a junction, or a duplicate
+                if ride > ride_max:
+                    return codes, False
+            else:
+                ride = 0
+            if best == start or (o == me and len(codes) > 8 and _near_start(best, start, W)):
+                codes.extend([best_d] * jump)
+                return codes, True
+            if o == me and len(codes) > 8:
+                return codes, False  # met its own trail away from the start: stop
+            codes.extend([best_d] * jump)
+            p = best
+            d = best_d
+            if not o:
+                owner[p] = me
+                # suppress the thick edge response on either side, normal to the boundary
+                side = int(round(-tc[p])) * W + int(round(tr[p]))
+                if side:
+                    if not owner[p + side]:
+                        owner[p + side] = me
+                    if not owner[p - side]:
+                        owner[p - side] = me
+        return codes, False
+
+
+def _near_start(q: int, start: int, W: int) -> bool:
+    dr = q // W - start // W
+    dc = q % W - start % W
+    return abs(dr) <= 1 and abs(dc) <= 1
+
+
+def _ridge(mag: np.ndarray, gc: np.ndarray, gr: np.ndarray) -> np.ndarray:
+    """Points whose edge magnitude is a maximum across the boundary (non-maximum suppression)."""
+    ang = np.round(np.arctan2(gr, gc) / (np.pi / 4)).astype(int) % 4  # 0: across columns, 2: rows
+    p = np.pad(mag, 1)
+    h, w = mag.shape
+    c = p[1:h + 1, 1:w + 1]
+    out = np.zeros_like(mag, bool)
+    for a, (dr, dc) in enumerate(((0, 1), (1, 1), (1, 0), (1, -1))):
+        m = ang == a
+        fwd = p[1 + dr:h + 1 + dr, 1 + dc:w + 1 + dc]
+        bwd = p[1 - dr:h + 1 - dr, 1 - dc:w + 1 - dc]
+        out |= m & (c >= fwd) & (c >= bwd)
+    return out
+
+
+class _Looks:
+    """Reads wire ends off boundaries and tests them on the working image."""
+
+    def __init__(self, work: np.ndarray, mag: np.ndarray, threshold: float, ppm: float) -> None:
+        self.work = work
+        self.mag = mag
+        self.t = threshold
+        self.ppm = ppm
+        sample = work[::2, ::2]
+        self.tray = float(np.median(sample))
+        noise = 1.4826 * float(np.median(np.abs(sample - self.tray)))
+        self.shine = max(5 * noise, 0.04)
+        self.rejected: list[int] = []  # which test turned each rejected end down (for tuning)
+
+    def _no(self, test: int) -> None:
+        self.rejected.append(test)
+        return None
+
+    def wire_ends(self, pts: np.ndarray, unit: float) -> list[Sighting]:
+        """Sightings (working (row, col) -> stored as (col, row)) for the ends along one boundary."""
+        n = len(pts) - 1
+        seg = max(int(round(SEGMENT * unit)), 8)
+        if n < seg + 2:
+            return []
+        closed = bool(np.abs(pts[0] - pts[-1]).max() <= 1)
+        if closed:
+            pts = np.vstack([pts[:-1], pts[:seg + 1]])
+        a = max(seg // 6, 2)
+        first = pts[a:len(pts) - seg + a] - pts[:len(pts) - seg]
+        last = pts[seg:] - pts[seg - a:len(pts) - a]
+        cosang = (first * last).sum(axis=1) / (np.linalg.norm(first, axis=1) * np.linalg.norm(last, axis=1) + 1e-12)
+        apart = np.linalg.norm(pts[seg:] - pts[:len(pts) - seg], axis=1)
+        hit = (cosang < -math.cos(math.radians(END_TURN_TOL))) & (apart <= GAP * unit + 0.5)
+        out = []
+        for run in _runs(np.flatnonzero(hit)):
+            i = run[np.argmin(apart[run])]
+            s = self._end(pts, i + seg // 2, unit, closed)
+            if s is not None:
+                out.append(s)
+        return out
+
+    def _end(self, pts: np.ndarray, tip: int, unit: float, closed: bool) -> Optional[Sighting]:
+        ppm = self.ppm
+        n = len(pts)
+        reach = int(math.ceil((SPAN_MM + 4.0) * ppm * 1.2))
+        if closed:
+            ring = pts[:n - int(round(SEGMENT * unit))]
+            m = len(ring)
+            if m < 2 * reach:
+                return self._no(1)
+            fwd = ring[(tip + np.arange(1, reach)) % m]
+            bwd = ring[(tip - np.arange(1, reach)) % m]
+        else:
+            if tip + reach > n or tip - reach < 0:
+                return None  # the boundary stops before the grasp point: not free
+            fwd = pts[tip + 1:tip + reach]
+            bwd = pts[tip - 1:tip - reach:-1]
+        # pair each point of one side with the nearest of the other: the centre line between
+        d = np.linalg.norm(fwd[:, None, :] - bwd[None, :, :], axis=2)
+        j = np.argmin(d, axis=1)
+        width = d[np.arange(len(fwd)), j]
+        centre = (fwd + bwd[j]) / 2.0
+        near = max(int(3 * ppm), 3)
+        w0 = float(np.median(width[int(GRASP_MM * ppm) - near:int(GRASP_MM * ppm) + near]))  # at the grasp
+        if not 1.0 <= w0 <= 4.0 * ppm:
+            return self._no(2)
+        # the wire's axis near the end, pointing into the wire
+        axis_pts = centre[near:near + int(6 * ppm)]
+        inward = _direction(axis_pts)
+        if (axis_pts[-1] - axis_pts[0]) @ inward < 0:
+            inward = -inward
+        half = seg_half(unit)
+        tipzone = pts[(tip + np.arange(-half, half + 1)) % n] if closed else pts[max(tip - half, 0):tip + half + 1]
+        end_rc = axis_pts[0] + float(((tipzone - axis_pts[0]) @ inward).min()) * inward  # the end face
+        end_rc = end_rc - inward * self._tip(end_rc, -inward)
+        # distance along the wire from the end (the wire bends little over the span)
+        along = (centre - end_rc) @ inward
+        grasp_s, span_s = GRASP_MM * ppm, SPAN_MM * ppm
+        if along.max() < span_s * 0.95:
+            return self._no(3)
+        # the sides must stay parallel and the width constant out to the span: nothing joins
+        # (a stripped conductor or a ferrule may make the first few mm thinner, never wider)
+        inspan = (along > near) & (along < span_s)
+        tol = max(1.5, 0.35 * w0)
+        thinner = inspan & (width < w0 - tol)
+        if np.any(inspan & (width > w0 + tol)) or (
+                thinner.any() and along[thinner].max() > along[inspan & ~thinner].min() + ppm):
+            return self._no(4)
+        at = np.abs(along - grasp_s)
+        grasp = centre[at <= max(at.min(), 1.0)].mean(axis=0)
+        around = centre[at <= 3.0 * ppm]
+        if len(around) < 3:
+            return self._no(5)
+        tvec = _direction(around)
+        tangent = math.degrees(math.atan2(tvec[0], tvec[1])) % 180.0
+        end_angle = math.degrees(math.atan2(inward[0], inward[1]))
+        h, w = self.work.shape
+        margin = 3.0 * ppm
+        span_pts, arc = _binned(centre, along, ppm, span_s)
+        if len(span_pts) < 3:
+            return self._no(8)
+        if (span_pts.min() < margin or span_pts[:, 0].max() > h - 1 - margin or span_pts[:, 1].max() > w - 1 - margin
+                or min(end_rc) < margin or end_rc[0] > h - 1 - margin or end_rc[1] > w - 1 - margin):
+            return self._no(6)
+        clearance = self._clearance(span_pts, arc, w0, end_rc, inward)
+        if clearance is None:
+            return self._no(7)
+        return Sighting((float(end_rc[1]), float(end_rc[0])), end_angle, (float(grasp[1]), float(grasp[0])),
+                        tangent, score=clearance)
+
+    def _tip(self, end: np.ndarray, out: np.ndarray) -> float:
+        """How far a thinner, brighter conductor runs on beyond an end (working px), 0 if none."""
+        ppm = self.ppm
+        s = np.arange(0.5, 10.0 * ppm, 0.5)
+        h, w = self.work.shape
+        rows = np.round(end[0] + s * out[0]).astype(int)
+        cols = np.round(end[1] + s * out[1]).astype(int)
+        inside = (rows >= 0) & (rows < h) & (cols >= 0) & (cols < w)
+        g = np.where(inside, self.work[np.clip(rows, 0, h - 1), np.clip(cols, 0, w - 1)], self.tray)
+        bright = (g > self.tray + self.shine) & inside
+        if not bright[:max(int(ppm), 2)].any():
+            return 0.0
+        run = np.convolve(~bright, np.ones(3, int), mode="valid") == 3
+        stop = int(np.argmax(run)) if run.any() else len(s)
+        on = np.flatnonzero(bright[:stop])
+        return float(s[on[-1]]) + 0.5 if on.size else 0.0
+
+    def _clearance(self, centre: np.ndarray, arc: np.ndarray, width: float, end: np.ndarray,
+                   inward: np.ndarray) -> Optional[float]:
+        """The isolation test. The smallest free distance (mm) beside the wire near the grasp
+        point, or None when another boundary comes too close anywhere along the span."""
+        ppm = self.ppm
+        h, w = self.mag.shape
+        c, a = centre, arc
+        t = np.gradient(c, axis=0)
+        t /= np.linalg.norm(t, axis=1, keepdims=True) + 1e-12
+        normal = np.stack([-t[:, 1], t[:, 0]], axis=1)
+        # distances (px) from the centre line, from just past the wire's own edge response
+        reach = np.arange(width / 2 + 2.5, (CLEARANCE_MM + 1.0) * ppm)
+        free = []
+        for sign in (1.0, -1.0):
+            p = c[:, None, :] + sign * normal[:, None, :] * reach[None, :, None]
+            r = np.clip(np.round(p[..., 0]).astype(int), 0, h - 1)
+            q = np.clip(np.round(p[..., 1]).astype(int), 0, w - 1)
+            hit = self.mag[r, q] > self.t
+            hit[:, :-1] &= hit[:, 1:]  # an edge shows on two samples running; noise rarely does
+            first = np.where(hit.any(axis=1), reach[np.argmax(hit, axis=1)], reach[-1] + 1)
+            free.append(first / ppm)
+        free = np.minimum(*free)  # mm from the centre line to the nearest other edge
+        near_grasp = np.abs(a - GRASP_MM * ppm) <= 3.0 * ppm
+        if np.any(free[~near_grasp] < (width / 2 + 2.5) / ppm + FREE_MM) or np.any(free[near_grasp] < CLEARANCE_MM):
+            return None
+        # beyond the end: a short fan in front of the end face
+        out = -inward
+        side = np.array([-out[1], out[0]])
+        offsets = np.arange(2.5, 2.5 + FREE_MM * ppm + 1)
+        lateral = np.linspace(-width / 2, width / 2, 3)
+        p = end[None, None, :] + out[None, None, :] * offsets[:, None, None] + side * lateral[None, :, None]
+        r = np.clip(np.round(p[..., 0]).astype(int), 0, h - 1)
+        q = np.clip(np.round(p[..., 1]).astype(int), 0, w - 1)
+        hit = self.mag[r, q] > self.t
+        if (hit[:-1] & hit[1:]).any():
+            return None
+        return float(free[near_grasp].min())
+
+
+def seg_half(unit: float) -> int:
+    return max(int(round(SEGMENT * unit / 2)), 4)
+
+
+def _direction(pts: np.ndarray) -> np.ndarray:
+    """The principal direction of a set of points (unit (row, col))."""
+    d = pts - pts.mean(axis=0)
+    _, _, vt = np.linalg.svd(d, full_matrices=False)
+    return vt[0]
+
+
+def _binned(centre: np.ndarray, along: np.ndarray, ppm: float, upto: float) -> tuple[np.ndarray, np.ndarray]:
+    """The centre line from the end to upto, as the mean point of each mm along it."""
+    keep = (along >= 0) & (along <= upto)
+    bins = (along[keep] / ppm).astype(int)
+    n = int(bins.max()) + 1 if bins.size else 0
+    count = np.bincount(bins, minlength=n)
+    ok = count > 0
+    pts = np.stack([np.bincount(bins, centre[keep, 0], n), np.bincount(bins, centre[keep, 1], n)], axis=1)
+    arc = np.bincount(bins, along[keep], n)
+    return pts[ok] / count[ok, None], arc[ok] / count[ok]
+
+
+def _runs(idx: np.ndarray) -> list[np.ndarray]:
+    if not idx.size:
+        return []
+    cut = np.flatnonzero(np.diff(idx) > 1) + 1
+    return np.split(idx, cut)
+
+
+def _to_input(pts: np.ndarray, k: int) -> np.ndarray:
+    """Working (row, col) points -> input (u, v) pixel coordinates."""
+    pts = np.asarray(pts, float)
+    return np.column_stack([(pts[:, 1] + 0.5) * k - 0.5, (pts[:, 0] + 0.5) * k - 0.5])
+
+
+class _Clock:
+    def __init__(self, into: dict) -> None:
+        self.into = into
+        self.last = time.perf_counter()
+
+    def __call__(self, stage: str) -> None:
+        now = time.perf_counter()
+        self.into[stage] = (now - self.last) * 1000.0
+        self.last = now
