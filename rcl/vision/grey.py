@@ -417,7 +417,18 @@ class _Looks:
         half = seg_half(unit)
         tipzone = pts[(tip + np.arange(-half, half + 1)) % n] if closed else pts[max(tip - half, 0):tip + half + 1]
         end_rc = axis_pts[0] + float(((tipzone - axis_pts[0]) @ inward).min()) * inward  # the end face
-        end_rc = end_rc - inward * self._tip(end_rc, -inward)
+        h, w = self.work.shape
+        inner = np.clip(np.round(axis_pts).astype(int), 0, [h - 1, w - 1])
+        dark = float(np.median(self.work[inner[:, 0], inner[:, 1]])) < self.tray
+        tip_rc = self._tip(end_rc, -inward, w0) if dark else None
+        if tip_rc is False:
+            return self._no(9)
+        conductor = None
+        if tip_rc is not None:  # a stripped conductor or ferrule: the end is its tip
+            conductor = np.linspace(tip_rc, end_rc, max(int(np.linalg.norm(end_rc - tip_rc)), 2))
+            inward = end_rc - tip_rc
+            inward = inward / np.linalg.norm(inward)
+            end_rc = tip_rc
         # distance along the wire from the end (the wire bends little over the span)
         along = (centre - end_rc) @ inward
         grasp_s, span_s = GRASP_MM * ppm, SPAN_MM * ppm
@@ -428,8 +439,9 @@ class _Looks:
         inspan = (along > near) & (along < span_s)
         tol = max(1.5, 0.35 * w0)
         thinner = inspan & (width < w0 - tol)
-        if np.any(inspan & (width > w0 + tol)) or (
-                thinner.any() and along[thinner].max() > along[inspan & ~thinner].min() + ppm):
+        normal = inspan & ~thinner
+        if not normal.any() or np.any(inspan & (width > w0 + tol)) or (
+                thinner.any() and along[thinner].max() > along[normal].min() + ppm):
             return self._no(4)
         at = np.abs(along - grasp_s)
         grasp = centre[at <= max(at.min(), 1.0)].mean(axis=0)
@@ -442,6 +454,9 @@ class _Looks:
         h, w = self.work.shape
         margin = 3.0 * ppm
         span_pts, arc = _binned(centre, along, ppm, span_s)
+        if conductor is not None:  # the conductor is part of the span that must be free
+            span_pts = np.vstack([conductor, span_pts])
+            arc = np.concatenate([(conductor - end_rc) @ inward, arc])
         if len(span_pts) < 3:
             return self._no(8)
         if (span_pts.min() < margin or span_pts[:, 0].max() > h - 1 - margin or span_pts[:, 1].max() > w - 1 - margin
@@ -453,22 +468,47 @@ class _Looks:
         return Sighting((float(end_rc[1]), float(end_rc[0])), end_angle, (float(grasp[1]), float(grasp[0])),
                         tangent, score=clearance)
 
-    def _tip(self, end: np.ndarray, out: np.ndarray) -> float:
-        """How far a thinner, brighter conductor runs on beyond an end (working px), 0 if none."""
+    def _tip(self, end: np.ndarray, out: np.ndarray, width: float):
+        """The tip of a thinner, brighter conductor running on beyond an end, None if there
+        is none, False if the bright region there is more than a conductor.
+
+        The conductor is the bright region touching the end face; it may bend away
+        from the insulation's axis, so its tip is its point farthest from the end."""
+        from scipy import ndimage
+
         ppm = self.ppm
-        s = np.arange(0.5, 10.0 * ppm, 0.5)
         h, w = self.work.shape
-        rows = np.round(end[0] + s * out[0]).astype(int)
-        cols = np.round(end[1] + s * out[1]).astype(int)
-        inside = (rows >= 0) & (rows < h) & (cols >= 0) & (cols < w)
-        g = np.where(inside, self.work[np.clip(rows, 0, h - 1), np.clip(cols, 0, w - 1)], self.tray)
-        bright = (g > self.tray + self.shine) & inside
-        if not bright[:max(int(ppm), 2)].any():
-            return 0.0
-        run = np.convolve(~bright, np.ones(3, int), mode="valid") == 3
-        stop = int(np.argmax(run)) if run.any() else len(s)
-        on = np.flatnonzero(bright[:stop])
-        return float(s[on[-1]]) + 0.5 if on.size else 0.0
+        rad = int(math.ceil(10.0 * ppm))
+        r0, r1 = max(int(end[0]) - rad, 0), min(int(end[0]) + rad + 1, h)
+        c0, c1 = max(int(end[1]) - rad, 0), min(int(end[1]) + rad + 1, w)
+        if r1 - r0 < 3 or c1 - c0 < 3:
+            return None
+        bright = self.work[r0:r1, c0:c1] > self.tray + self.shine
+        seed = [end + out * s for s in np.arange(0.5, 1.5 * ppm + 0.5, 0.5)]
+        labels, _ = ndimage.label(bright, np.ones((3, 3)))
+        ids = {int(labels[int(round(p[0])) - r0, int(round(p[1])) - c0]) for p in seed
+               if r0 <= round(p[0]) < r1 and c0 <= round(p[1]) < c1}
+        ids.discard(0)
+        if not ids:
+            return None
+        rr, cc = np.nonzero(np.isin(labels, list(ids)))
+        if rr.size < 1.5 * ppm * ppm:
+            return None  # a speck of noise
+        pts = np.column_stack([rr + r0, cc + c0]).astype(float)
+        ahead = (pts - end) @ out
+        pts, ahead = pts[ahead > 0], ahead[ahead > 0]
+        if not pts.size:
+            return None
+        dist = np.linalg.norm(pts - end, axis=1)
+        far = pts[dist >= dist.max() - 1.0].mean(axis=0)
+        if not np.linalg.norm(far - end) < 10.0 * ppm:
+            return None
+        # a conductor is thinner than its insulation: a wider blob is something else as well
+        axis = (far - end) / max(np.linalg.norm(far - end), 1e-9)
+        across = np.abs((pts - end) @ np.array([-axis[1], axis[0]]))
+        if across.max() > 0.6 * width + 1.0:
+            return False
+        return far + axis * 0.5
 
     def _clearance(self, centre: np.ndarray, arc: np.ndarray, width: float, end: np.ndarray,
                    inward: np.ndarray) -> Optional[float]:
