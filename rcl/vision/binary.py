@@ -24,13 +24,13 @@ end is placed at full resolution by following the wire outwards (_Looks).
 from __future__ import annotations
 
 import math
-import time
 from functools import lru_cache
 from typing import Optional
 
 import numpy as np
 
 from ..camera.images import as_grey
+from .common import Clock, block_average
 from .sighting import Sighting
 
 GRASP_MM = 15.0
@@ -102,12 +102,7 @@ def thin(mask: np.ndarray, max_passes: int = 400) -> np.ndarray:
     return skeleton
 
 
-def block_average(grey: np.ndarray, k: int) -> np.ndarray:
-    h, w = grey.shape[0] // k * k, grey.shape[1] // k * k
-    return grey[:h, :w].reshape(h // k, k, w // k, k).mean(axis=(1, 3))
-
-
-def log_threshold(image: np.ndarray, sigma: float = 2.0) -> float:
+def log_threshold(image: np.ndarray, sigma: float = 0.7) -> float:
     """The mean grey level at the zero crossings of the Laplacian of Gaussian.
 
     Only crossings with a real edge count: a flat, noisy tray crosses zero
@@ -150,7 +145,7 @@ class BinaryResult:
 def find_wires_binary(image: np.ndarray, px_per_mm: float = 4.0) -> BinaryResult:
     """Graspable wire ends in an image (any size; px_per_mm gives the scale)."""
     result = BinaryResult()
-    clock = _Clock(result.timings)
+    clock = Clock(result.timings)
     grey = as_grey(image)
     k = max(1, int(round(px_per_mm)))
     small = block_average(grey, k)
@@ -176,17 +171,6 @@ def find_wires_binary(image: np.ndarray, px_per_mm: float = 4.0) -> BinaryResult
     clock("analyse")
     result.timings["total"] = sum(result.timings.values())
     return result
-
-
-class _Clock:
-    def __init__(self, into: dict) -> None:
-        self.into = into
-        self.last = time.perf_counter()
-
-    def __call__(self, stage: str) -> None:
-        now = time.perf_counter()
-        self.into[stage] = (now - self.last) * 1000.0
-        self.last = now
 
 
 def _neighbour_count(skeleton: np.ndarray) -> np.ndarray:
@@ -282,23 +266,34 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
     counts = _neighbour_count(skeleton)
     pixels = set(zip(*(a.tolist() for a in np.nonzero(skeleton))))
     out = []
+    nearest = _nearest_skeleton(skeleton, mask)
     for r, c in zip(*(a.tolist() for a in np.nonzero(counts == 1))):
         if r < BORDER_PX or c < BORDER_PX or r >= h - BORDER_PX or c >= w - BORDER_PX:
             continue  # an edge is not a wire end
         path, crossing = _trace(pixels, (r, c), need)
         if crossing or len(path) < need:
             continue
-        inner = path[3]
-        base = path[min(8, len(path) - 1)]  # a longer baseline aims the search along a thin tip
-        out_r, out_c = r - base[0], c - base[1]
-        norm = math.hypot(out_r, out_c)
-        du, dv = out_c / norm, out_r / norm
-        u0, v0 = _to_input(c, r, k)
-        beyond = looks.extend_end(u0, v0, du, dv, limit_px=12.0 * px_per_mm)
-        if not (0 <= u0 + beyond * du < looks.grey.shape[1] - BORDER_PX * k
-                and 0 <= v0 + beyond * dv < looks.grey.shape[0] - BORDER_PX * k):
+        # the wire's axis near the end, fitted past the end's last few (worn) skeleton points
+        near = np.array(path[2:2 + 2 * END_PX], float)  # (row, column)
+        centre = near.mean(axis=0)
+        axis = _principal(near)
+        if (np.array([r, c]) - centre) @ axis < 0:
+            axis = -axis  # pointing out of the wire, past the end
+        dv, du = float(axis[0]), float(axis[1])
+        # thinning wears a thick wire's end away: the end of the wire is the far edge of the
+        # part of the mask that lies nearer this skeleton end than any other skeleton point
+        cap = np.flatnonzero(nearest == r * w + c)
+        reach = float(max(((cap // w - centre[0]) * dv + (cap % w - centre[1]) * du).max(), 0.0)) if cap.size else 0.0
+        reach = max(reach - 1.5, 0.0)  # from safely inside the wire, at full resolution:
+        u0, v0 = _to_input(centre[1] + reach * du, centre[0] + reach * dv, k)
+        beyond = looks.extend_end(u0, v0, du, dv, limit_px=10.0 * px_per_mm)
+        end_uv = (u0 + beyond * du, v0 + beyond * dv)
+        if not (0 <= end_uv[0] < looks.grey.shape[1] - BORDER_PX * k
+                and 0 <= end_uv[1] < looks.grey.shape[0] - BORDER_PX * k):
             continue  # the wire runs on to the border: not an end
-        beyond_mm = beyond / px_per_mm
+        # how far the end lies beyond the skeleton's end, along the wire
+        ru, rv = _to_input(c, r, k)
+        beyond_mm = ((end_uv[0] - ru) * du + (end_uv[1] - rv) * dv) / px_per_mm
         steps = np.hypot(*np.diff(np.array(path), axis=0).T)  # diagonal steps are sqrt(2) long
         arc = np.concatenate([[0.0], np.cumsum(steps)]) * mm
         g = int(np.searchsorted(arc, max(GRASP_MM - beyond_mm, 1.0)))
@@ -307,17 +302,31 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
         grasp = path[g]
         if min(grasp) < BORDER_PX or grasp[0] >= h - BORDER_PX or grasp[1] >= w - BORDER_PX:
             continue
-        before, after = path[max(g - TANGENT_PX, 0)], path[g + TANGENT_PX]
-        tangent = math.degrees(math.atan2(after[0] - before[0], after[1] - before[1])) % 180.0
-        inner = path[min(END_PX, len(path) - 1)]
-        end_angle = math.degrees(math.atan2(inner[0] - r, inner[1] - c))
+        t = _principal(np.array(path[max(g - TANGENT_PX, 0):g + TANGENT_PX + 1], float))
+        tangent = math.degrees(math.atan2(t[0], t[1])) % 180.0
+        end_angle = math.degrees(math.atan2(-dv, -du))
         clearance = _clearance(mask, grasp, tangent) * mm
         if clearance < FINGER_CLEARANCE_MM:
             continue
-        end_uv = (u0 + beyond * du, v0 + beyond * dv)
         out.append(Sighting(end_uv, end_angle, _to_input(grasp[1], grasp[0], k), tangent, score=clearance))
     out.sort(key=lambda s: -s.score)
     return out
+
+
+def _principal(pts: np.ndarray) -> np.ndarray:
+    """The direction (unit (row, column)) along which points spread most."""
+    d = pts - pts.mean(axis=0)
+    return np.linalg.svd(d, full_matrices=False)[2][0]
+
+
+def _nearest_skeleton(skeleton: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """For each mask pixel, the flat index of the nearest skeleton pixel (-1 off the mask)."""
+    from scipy import ndimage
+
+    if not skeleton.any():
+        return np.full(mask.size, -1)
+    _, (rows, cols) = ndimage.distance_transform_edt(~skeleton, return_indices=True)
+    return np.where(mask, rows * mask.shape[1] + cols, -1).ravel()
 
 
 def _clearance(mask: np.ndarray, at: tuple[int, int], tangent_deg: float, reach: int = 40) -> float:
