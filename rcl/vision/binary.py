@@ -47,16 +47,31 @@ NEIGHBOURS = ((0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1), (1, 0), (1, 
 
 
 def critically_connected(code: int) -> bool:
-    """Whether the centre pixel joins neighbours that nothing else joins.
+    """Whether deleting the centre pixel would split its neighbours (8-connected) apart.
 
-    x1..x8 are the neighbours (1 = E, anticlockwise). The paper writes this as a
-    sum of products such as 1(3+4+5+6+7)~2~8 (its last, misprinted, term must read
-    7(1+2+3+4+5)~6~8); their sum is true exactly when the neighbours, walked
-    around the ring, form two or more separate runs: the crossing number.
+    x1..x8 are the neighbours (1 = E, anticlockwise). This is Hilditch's crossing
+    number: the count of k in 1, 3, 5, 7 with x_k clear and x_k+1 or x_k+2 set,
+    critical when two or more. (A deviation: papers_expression() below, the
+    paper's printed sum of products with its last term corrected, treats E and N
+    as joined only through NE; used as the thinning criterion it lets a pass cut
+    one-pixel diagonal and straight lines, since it has no term for a pixel whose
+    neighbours are NE and SW only, or N and S only.)
     """
-    x = [code >> k & 1 for k in range(8)]
-    runs = sum(1 for k in range(8) if not x[k - 1] and x[k])
-    return runs >= 2
+    x = [code >> k & 1 for k in range(8)] + [code & 1]  # x[0] = neighbour 1 (E); x[8] wraps to it
+    crossings = sum(1 for k in (0, 2, 4, 6) if not x[k] and (x[k + 1] or x[k + 2]))
+    return crossings >= 2
+
+
+def papers_expression(code: int) -> bool:
+    """The paper's Boolean expression for a critically connected pixel, its last term
+    corrected: 1(3+4+5+6+7)~2~8 + 3(5+6+7+8+1)~4~2 + 5(7+8+1+2+3)~6~4 + 7(1+2+3+4+5)~6~8."""
+    x = [None] + [code >> (k - 1) & 1 for k in range(1, 9)]
+
+    def term(a: int, some: tuple, b: int, c: int) -> bool:
+        return bool(x[a] and any(x[k] for k in some) and not x[b] and not x[c])
+
+    return (term(1, (3, 4, 5, 6, 7), 2, 8) or term(3, (5, 6, 7, 8, 1), 4, 2)
+            or term(5, (7, 8, 1, 2, 3), 6, 4) or term(7, (1, 2, 3, 4, 5), 6, 8))
 
 
 @lru_cache(maxsize=1)
