@@ -30,7 +30,7 @@ from typing import Optional
 import numpy as np
 
 from ..camera.images import as_grey
-from .common import Clock, block_average
+from .common import Clock, block_average, conductor_tip
 from .sighting import Sighting
 
 GRASP_MM = 15.0
@@ -246,16 +246,6 @@ class _Looks:
         self.tray = tray
         self.shine = max(4 * noise, 0.05)
 
-    def on_wire(self, u: float, v: float) -> bool:
-        """Insulation, or a bare conductor's shinier tip."""
-        h, w = self.grey.shape
-        r, c = int(round(v)), int(round(u))
-        if not (0 <= r < h and 0 <= c < w):
-            return False
-        g = self.grey[r, c]
-        wire = g < self.threshold if self.dark else g > self.threshold
-        return bool(wire or g > self.tray + self.shine)
-
     def extend_end(self, u: float, v: float, du: float, dv: float, limit_px: float) -> float:
         """How far (px) the wire goes on beyond (u, v) in the direction (du, dv)."""
         s = np.arange(0.5, limit_px, 0.5)
@@ -264,7 +254,7 @@ class _Looks:
         rows = np.round(v + s * dv).astype(int)
         inside = (cols >= 0) & (cols < w) & (rows >= 0) & (rows < h)
         g = np.where(inside, self.grey[np.clip(rows, 0, h - 1), np.clip(cols, 0, w - 1)], self.tray)
-        wire = (g < self.threshold if self.dark else g > self.threshold) | (g > self.tray + self.shine)
+        wire = g < self.threshold if self.dark else g > self.threshold
         wire &= inside
         off = np.flatnonzero(~wire)
         # the wire ends where 1.5 px of background begin (anti-aliased edges leave single gaps)
@@ -282,6 +272,9 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
     pixels = set(zip(*(a.tolist() for a in np.nonzero(skeleton))))
     out = []
     nearest = _nearest_skeleton(skeleton, mask)
+    from scipy import ndimage
+
+    inside = ndimage.distance_transform_edt(mask)  # half the wire's width, on its skeleton
     for r, c in zip(*(a.tolist() for a in np.nonzero(counts == 1))):
         if r < BORDER_PX or c < BORDER_PX or r >= h - BORDER_PX or c >= w - BORDER_PX:
             continue  # an edge is not a wire end
@@ -289,7 +282,7 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
         if crossing or len(path) < need:
             continue
         # the wire's axis near the end, fitted past the end's last few (worn) skeleton points
-        near = np.array(path[2:2 + 2 * END_PX], float)  # (row, column)
+        near = np.array(path[:2 * END_PX], float)  # (row, column)
         centre = near.mean(axis=0)
         axis = _principal(near)
         if (np.array([r, c]) - centre) @ axis < 0:
@@ -303,6 +296,16 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
         u0, v0 = _to_input(centre[1] + reach * du, centre[0] + reach * dv, k)
         beyond = looks.extend_end(u0, v0, du, dv, limit_px=10.0 * px_per_mm)
         end_uv = (u0 + beyond * du, v0 + beyond * dv)
+        if looks.dark:  # a stripped conductor or ferrule beyond the insulation: the end is its tip
+            width = 2.0 * float(np.median(inside[tuple(np.array(path[:2 * END_PX]).T)])) * k
+            tip = conductor_tip(looks.grey, np.array(end_uv[::-1]), np.array([dv, du]), width, px_per_mm,
+                                looks.tray + looks.shine)
+            if tip is False:
+                continue
+            if tip is not None:
+                end_uv = (float(tip[1]), float(tip[0]))
+                inward = np.array([u0 - end_uv[0], v0 - end_uv[1]])
+                du, dv = -inward / max(float(np.linalg.norm(inward)), 1e-9)
         if not (0 <= end_uv[0] < looks.grey.shape[1] - BORDER_PX * k
                 and 0 <= end_uv[1] < looks.grey.shape[0] - BORDER_PX * k):
             continue  # the wire runs on to the border: not an end

@@ -1,6 +1,7 @@
 """Pieces both wire finders use."""
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -17,6 +18,52 @@ def block_average(grey: np.ndarray, k: int) -> np.ndarray:
             out += grey[i:h:k, j:w:k]
     out *= 1.0 / (k * k)
     return out
+
+
+def conductor_tip(image: np.ndarray, end: np.ndarray, out: np.ndarray, width: float, ppm: float,
+                  bright: float):
+    """The tip of a thinner, brighter conductor (a stripped end or a ferrule) running on
+    beyond a dark wire's end: (row, col) in image pixels, None if there is none, False if
+    the bright region there is more than a conductor (wider than 0.6 of the insulation).
+
+    The conductor is the region brighter than `bright` touching the end face; it may
+    bend away from the insulation's axis, so its tip is its point farthest from the end.
+    end and out (unit, pointing out of the wire) are (row, col); width and the search
+    reach (10 mm) are in image pixels at ppm px/mm.
+    """
+    from scipy import ndimage
+
+    h, w = image.shape
+    rad = int(math.ceil(10.0 * ppm))
+    r0, r1 = max(int(end[0]) - rad, 0), min(int(end[0]) + rad + 1, h)
+    c0, c1 = max(int(end[1]) - rad, 0), min(int(end[1]) + rad + 1, w)
+    if r1 - r0 < 3 or c1 - c0 < 3:
+        return None
+    labels, _ = ndimage.label(image[r0:r1, c0:c1] > bright, np.ones((3, 3)))
+    side = np.array([-out[1], out[0]])
+    seeds = (end + out * s + side * t for s in np.arange(0.5, 2.5 * ppm + 0.5, 0.5)
+             for t in np.linspace(-0.4 * width, 0.4 * width, 5))  # a conductor may bend off the axis
+    ids = {int(labels[int(round(p[0])) - r0, int(round(p[1])) - c0]) for p in seeds
+           if r0 <= round(p[0]) < r1 and c0 <= round(p[1]) < c1}
+    ids.discard(0)
+    if not ids:
+        return None
+    rr, cc = np.nonzero(np.isin(labels, list(ids)))
+    if rr.size < 1.5 * ppm * ppm:
+        return None  # a speck of noise
+    pts = np.column_stack([rr + r0, cc + c0]).astype(float)
+    pts = pts[(pts - end) @ out > 0]
+    if not pts.size:
+        return None
+    dist = np.linalg.norm(pts - end, axis=1)
+    far = pts[dist >= dist.max() - 1.0].mean(axis=0)
+    if not np.linalg.norm(far - end) < 10.0 * ppm:
+        return None
+    axis = (far - end) / max(float(np.linalg.norm(far - end)), 1e-9)
+    across = np.abs((pts - end) @ np.array([-axis[1], axis[0]]))
+    if across.max() > 0.6 * width + 1.0:
+        return False
+    return far + axis * 0.5
 
 
 class Clock:

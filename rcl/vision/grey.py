@@ -43,7 +43,7 @@ from typing import Optional
 import numpy as np
 
 from ..camera.images import as_grey
-from .common import Clock, block_average
+from .common import Clock, block_average, conductor_tip
 from .sighting import Sighting
 
 GRASP_MM = 15.0
@@ -472,46 +472,7 @@ class _Looks:
                         tangent, score=clearance)
 
     def _tip(self, end: np.ndarray, out: np.ndarray, width: float):
-        """The tip of a thinner, brighter conductor running on beyond an end, None if there
-        is none, False if the bright region there is more than a conductor.
-
-        The conductor is the bright region touching the end face; it may bend away
-        from the insulation's axis, so its tip is its point farthest from the end."""
-        from scipy import ndimage
-
-        ppm = self.ppm
-        h, w = self.work.shape
-        rad = int(math.ceil(10.0 * ppm))
-        r0, r1 = max(int(end[0]) - rad, 0), min(int(end[0]) + rad + 1, h)
-        c0, c1 = max(int(end[1]) - rad, 0), min(int(end[1]) + rad + 1, w)
-        if r1 - r0 < 3 or c1 - c0 < 3:
-            return None
-        bright = self.work[r0:r1, c0:c1] > self.tray + self.shine
-        seed = [end + out * s for s in np.arange(0.5, 1.5 * ppm + 0.5, 0.5)]
-        labels, _ = ndimage.label(bright, np.ones((3, 3)))
-        ids = {int(labels[int(round(p[0])) - r0, int(round(p[1])) - c0]) for p in seed
-               if r0 <= round(p[0]) < r1 and c0 <= round(p[1]) < c1}
-        ids.discard(0)
-        if not ids:
-            return None
-        rr, cc = np.nonzero(np.isin(labels, list(ids)))
-        if rr.size < 1.5 * ppm * ppm:
-            return None  # a speck of noise
-        pts = np.column_stack([rr + r0, cc + c0]).astype(float)
-        ahead = (pts - end) @ out
-        pts, ahead = pts[ahead > 0], ahead[ahead > 0]
-        if not pts.size:
-            return None
-        dist = np.linalg.norm(pts - end, axis=1)
-        far = pts[dist >= dist.max() - 1.0].mean(axis=0)
-        if not np.linalg.norm(far - end) < 10.0 * ppm:
-            return None
-        # a conductor is thinner than its insulation: a wider blob is something else as well
-        axis = (far - end) / max(np.linalg.norm(far - end), 1e-9)
-        across = np.abs((pts - end) @ np.array([-axis[1], axis[0]]))
-        if across.max() > 0.6 * width + 1.0:
-            return False
-        return far + axis * 0.5
+        return conductor_tip(self.work, end, out, width, self.ppm, self.tray + self.shine)
 
     def _clearance(self, centre: np.ndarray, arc: np.ndarray, width: float, end: np.ndarray,
                    inward: np.ndarray) -> Optional[float]:
