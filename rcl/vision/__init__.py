@@ -14,19 +14,25 @@ class VisionError(ValueError):
     """A method that cannot be used, or an image it cannot work on."""
 
 
-def find_wires(image, method: str = "binary", px_per_mm: float = 4.0):
-    """Candidates best-first (with .candidates and .timings in ms) for one image."""
-    if not px_per_mm > 0:
-        raise VisionError(f"the scale must be a positive number of px per mm, not {px_per_mm}")
+def load(method: str):
+    """The finder for a method (imported, its tables built)."""
     if method == "binary":
-        from .binary import find_wires_binary
+        from .binary import deletion_tables, find_wires_binary
 
-        return find_wires_binary(image, px_per_mm)
+        deletion_tables()
+        return find_wires_binary
     if method == "grey":
         from .grey import find_wires_grey
 
-        return find_wires_grey(image, px_per_mm)
+        return find_wires_grey
     raise VisionError(f"unknown method {method!r} (binary or grey)")
 
 
-__all__ = ["Sighting", "find_wires", "VisionError", "METHODS"]
+def find_wires(image, method: str = "grey", px_per_mm: float = 4.0):
+    """Candidates best-first (with .candidates and .timings in ms) for one image."""
+    if not px_per_mm > 0:
+        raise VisionError(f"the scale must be a positive number of px per mm, not {px_per_mm}")
+    return load(method)(image, px_per_mm)
+
+
+__all__ = ["METHODS", "Sighting", "VisionError", "find_wires", "load"]

@@ -41,10 +41,13 @@ def conductor_tip(image: np.ndarray, end: np.ndarray, out: np.ndarray, width: fl
         return None
     labels, _ = ndimage.label(image[r0:r1, c0:c1] > bright, np.ones((3, 3)))
     side = np.array([-out[1], out[0]])
-    seeds = (end + out * s + side * t for s in np.arange(0.5, 2.5 * ppm + 0.5, 0.5)
-             for t in np.linspace(-0.4 * width, 0.4 * width, 5))  # a conductor may bend off the axis
-    ids = {int(labels[int(round(p[0])) - r0, int(round(p[1])) - c0]) for p in seeds
-           if r0 <= round(p[0]) < r1 and c0 <= round(p[1]) < c1}
+    along = np.arange(0.5, 2.5 * ppm + 0.5, 0.5)
+    lateral = np.linspace(-0.4 * width, 0.4 * width, 5)  # a conductor may bend off the axis
+    seeds = end + along[:, None, None] * out + lateral[None, :, None] * side
+    sr = np.round(seeds[..., 0]).astype(int).ravel() - r0
+    sc = np.round(seeds[..., 1]).astype(int).ravel() - c0
+    ok = (sr >= 0) & (sr < r1 - r0) & (sc >= 0) & (sc < c1 - c0)
+    ids = set(np.unique(labels[sr[ok], sc[ok]]).tolist())
     ids.discard(0)
     if not ids:
         return None

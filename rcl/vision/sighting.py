@@ -17,3 +17,9 @@ class Sighting:
     grasp: tuple[float, float]
     grasp_angle: float
     score: float = 1.0
+
+    def __post_init__(self) -> None:  # plain floats, whatever numpy scalars a finder computed with
+        object.__setattr__(self, "end", (float(self.end[0]), float(self.end[1])))
+        object.__setattr__(self, "grasp", (float(self.grasp[0]), float(self.grasp[1])))
+        for name in ("end_angle", "grasp_angle", "score"):
+            object.__setattr__(self, name, float(getattr(self, name)))
