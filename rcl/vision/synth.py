@@ -57,6 +57,34 @@ class Tray:
     kind: str = ""
 
 
+    def judge(self, pick) -> tuple[str, float | None, float | None]:
+        """(verdict, end error mm, direction error deg) for a finder's first pick (a Sighting or None).
+
+        correct: the end within 1.5 mm of a graspable true end, its direction into the wire
+        within 20 degrees, the grasp point on that wire 11-19 mm from the end and the
+        tangent there within 15 degrees; no pick is correct only when nothing is graspable.
+        foul: any other pick. miss: no pick although something was graspable."""
+        if pick is None:
+            return ("correct" if not any(e.graspable for e in self.ends) else "miss"), None, None
+        ppm = self.px_per_mm
+        end = np.array(pick.end) / ppm
+        truth = min(self.ends, key=lambda e: np.linalg.norm(e.point - end))
+        err = float(np.linalg.norm(truth.point - end))
+        d = np.array([math.cos(math.radians(pick.end_angle)), math.sin(math.radians(pick.end_angle))])
+        ang = math.degrees(math.acos(max(-1.0, min(1.0, float(d @ truth.direction)))))
+        wire = self.wires[truth.wire]
+        grasp = np.array(pick.grasp) / ppm
+        pts = wire.centre if truth.end == 0 else wire.centre[::-1]
+        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
+        i = int(np.argmin(np.linalg.norm(pts - grasp, axis=1)))
+        on_wire = np.linalg.norm(pts[i] - grasp) < wire.width / 2 + 0.75
+        t = pts[min(i + 4, len(pts) - 1)] - pts[max(i - 4, 0)]
+        tangent = math.degrees(math.atan2(t[1], t[0])) % 180.0
+        tan_err = abs((pick.grasp_angle - tangent + 90.0) % 180.0 - 90.0)
+        ok = truth.graspable and err <= 1.5 and ang <= 20 and on_wire and 11 <= arc[i] <= 19 and tan_err <= 15
+        return ("correct" if ok else "foul"), err, ang
+
+
 def make_tray(kind: str = "sparse", seed: int = 0, size: int = 512, px_per_mm: float = 4.0,
               wires: int | None = None) -> Tray:
     """A tray of the given kind; the same seed gives the same tray."""
