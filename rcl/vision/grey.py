@@ -254,49 +254,44 @@ class _Tracer:
         a = math.atan2(-sense * self.tr[p], sense * self.tc[p])  # screen angle: row up is positive
         return int(round(a / (math.pi / 4))) % 8
 
+    def _ahead(self, p: int, d: int, sense: int, jump: int, floor: float, agreement: float) -> tuple[int, int]:
+        """The best of the three points `jump` steps ahead of p in directions d - 1, d, d + 1:
+        the largest edge magnitude (at least floor) times its agreement with the step (at
+        least `agreement`); (-1, 0) when none qualifies."""
+        mag, tr, tc, offs, unit = self.mag, self.tr, self.tc, self.offs, self.unit
+        best, best_d, best_s = -1, 0, 0.0
+        for turn in (0, -1, 1):
+            k = (d + turn) % 8
+            q = p + jump * offs[k]
+            if q < 0 or q >= len(mag):
+                continue
+            m = mag[q]
+            if m < floor:
+                continue
+            ur, uc = unit[k]
+            agree = sense * (tr[q] * ur + tc[q] * uc)
+            if agree < agreement:
+                continue
+            if m * agree > best_s:
+                best, best_d, best_s = q, k, m * agree
+        return best, best_d
+
     def _run(self, p: int, d: int, sense: int, me: int) -> tuple[list[int], bool]:
-        mag, tr, tc, owner, offs, unit = self.mag, self.tr, self.tc, self.owner, self.offs, self.unit
+        tr, tc, owner = self.tr, self.tc, self.owner
         low = self.low
         codes: list[int] = []
         start = p
         W = self.W
         ride, ride_max = 0, self.ride_max
         for _ in range(40000):
-            best, best_d, best_s = -1, 0, 0.0
-            for turn in (0, -1, 1):
-                k = (d + turn) % 8
-                q = p + offs[k]
-                m = mag[q]
-                if m < low:
-                    continue
-                ur, uc = unit[k]
-                agree = sense * (tr[q] * ur + tc[q] * uc)
-                if agree < 0.3:
-                    continue
-                s = m * agree
-                if s > best_s:
-                    best, best_d, best_s = q, k, s
             jump = 1
+            best, best_d = self._ahead(p, d, sense, 1, low, 0.3)
             if best < 0:  # a gap: look in the zones 1 and 2 px further ahead
                 for jump in (2, 3):
-                    for turn in (0, -1, 1):
-                        k = (d + turn) % 8
-                        q = p + jump * offs[k]
-                        if q < 0 or q >= len(mag):
-                            continue
-                        m = mag[q]
-                        if m < self.t:
-                            continue
-                        ur, uc = unit[k]
-                        agree = sense * (tr[q] * ur + tc[q] * uc)
-                        if agree < 0.5:
-                            continue
-                        s = m * agree
-                        if s > best_s:
-                            best, best_d, best_s = q, k, s
+                    best, best_d = self._ahead(p, d, sense, jump, self.t, 0.5)
                     if best >= 0:
                         break
-                if best < 0:
+                else:
                     return codes, False
             o = owner[best]
             if o and o != me:
@@ -358,9 +353,9 @@ class _Looks:
         self.tray = float(np.median(sample))
         noise = 1.4826 * float(np.median(np.abs(sample - self.tray)))
         self.shine = max(5 * noise, 0.04)
-        self.rejected: list[int] = []  # which test turned each rejected end down (for tuning)
+        self.rejected: list[str] = []  # which test turned each candidate end down (for tuning)
 
-    def _no(self, test: int) -> None:
+    def _no(self, test: str) -> None:
         self.rejected.append(test)
         return None
 
@@ -395,7 +390,7 @@ class _Looks:
             ring = pts[:n - int(round(SEGMENT * unit))]
             m = len(ring)
             if m < 2 * reach:
-                return self._no(1)
+                return self._no("boundary stops short")
             fwd = ring[(tip + np.arange(1, reach)) % m]
             bwd = ring[(tip - np.arange(1, reach)) % m]
         else:
@@ -411,7 +406,7 @@ class _Looks:
         near = max(int(3 * ppm), 3)
         w0 = float(np.median(width[int(GRASP_MM * ppm) - near:int(GRASP_MM * ppm) + near]))  # at the grasp
         if not 1.0 <= w0 <= 4.0 * ppm:
-            return self._no(2)
+            return self._no("no wire width")
         # the wire's axis near the end, pointing into the wire
         axis_pts = centre[near:near + int(6 * ppm)]
         inward = _direction(axis_pts)
@@ -425,7 +420,7 @@ class _Looks:
         dark = float(np.median(self.work[inner[:, 0], inner[:, 1]])) < self.tray
         tip_rc = self._tip(end_rc, -inward, w0) if dark else None
         if tip_rc is False:
-            return self._no(9)
+            return self._no("more than a conductor")
         conductor = None
         if tip_rc is not None:  # a stripped conductor or ferrule: the end is its tip
             conductor = np.linspace(tip_rc, end_rc, max(int(np.linalg.norm(end_rc - tip_rc)), 2))
@@ -436,7 +431,7 @@ class _Looks:
         along = (centre - end_rc) @ inward
         grasp_s, span_s = GRASP_MM * ppm, SPAN_MM * ppm
         if along.max() < span_s * 0.95:
-            return self._no(3)
+            return self._no("wire too short")
         # the sides must stay parallel and the width constant out to the span: nothing joins
         # (a stripped conductor or a ferrule may make the first few mm thinner, never wider)
         inspan = (along > near) & (along < span_s)
@@ -445,12 +440,12 @@ class _Looks:
         normal = inspan & ~thinner
         if not normal.any() or np.any(inspan & (width > w0 + tol)) or (
                 thinner.any() and along[thinner].max() > along[normal].min() + ppm):
-            return self._no(4)
+            return self._no("sides not parallel")
         at = np.abs(along - grasp_s)
         grasp = centre[at <= max(at.min(), 1.0)].mean(axis=0)
         around = centre[at <= 3.0 * ppm]
         if len(around) < 3:
-            return self._no(5)
+            return self._no("no tangent")
         tvec = _direction(around)
         tangent = math.degrees(math.atan2(tvec[0], tvec[1])) % 180.0
         end_angle = math.degrees(math.atan2(inward[0], inward[1]))
@@ -461,13 +456,13 @@ class _Looks:
             span_pts = np.vstack([conductor, span_pts])
             arc = np.concatenate([(conductor - end_rc) @ inward, arc])
         if len(span_pts) < 3:
-            return self._no(8)
+            return self._no("no centre line")
         if (span_pts.min() < margin or span_pts[:, 0].max() > h - 1 - margin or span_pts[:, 1].max() > w - 1 - margin
                 or min(end_rc) < margin or end_rc[0] > h - 1 - margin or end_rc[1] > w - 1 - margin):
-            return self._no(6)
+            return self._no("too near the border")
         clearance = self._clearance(span_pts, arc, w0, end_rc, inward)
         if clearance is None:
-            return self._no(7)
+            return self._no("not isolated")
         return Sighting((float(end_rc[1]), float(end_rc[0])), end_angle, (float(grasp[1]), float(grasp[0])),
                         tangent, score=clearance)
 
