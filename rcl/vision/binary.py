@@ -2,7 +2,7 @@
 
 1. Block averaging by k x k (k = 4 for a 512 image at 4 px/mm: 128 x 128, about 1 px/mm).
 2. The threshold is the mean grey level at the zero crossings of the image's
-   Laplacian of Gaussian (sigma 2): the level half way up the wires' edges.
+   Laplacian of Gaussian: the level half way up the wires' edges.
 3. Polarity: the wires are the minority class (dark on light or light on dark).
 4. Thinning: passes that each remove the border pixels of one orientation (N, S,
    E, W in turn), never a critically connected pixel nor an arc end, until four
@@ -10,16 +10,19 @@
    indexed by the 3x3 neighbourhood (thin()).
 5. Skeleton analysis: arc ends whose first GRASP_MM + 3 mm of skeleton meet no
    crossing and do not touch the image border; the grasp point GRASP_MM along
-   the skeleton, the wire's tangent there from skeletal points either side, the
-   end's direction from the end and a point further in, and the clearance to
-   the neighbouring wires across the grasp point.
+   the skeleton, the wire's tangent there, the end's direction, and the
+   clearance to the neighbouring wires across the grasp point.
 
-Deviations (each needed on harder scenes): spurs shorter than SPUR_MM are
-pruned before the analysis; the block size follows the scale for images that
-are not 512 px at 4 px/mm; the tangent and end direction use TANGENT_PX and
-END_PX instead of the paper's 2 and 3 pixels (too coarse at ~1 mm per pixel);
-only zero crossings with a real edge set the threshold (log_threshold); and each
-end is placed at full resolution by following the wire outwards (_Looks).
+Deviations (each needed on harder scenes; docs/vision.md says why): critical
+connectivity is Hilditch's 8-connected crossing number, not the paper's printed
+expression (papers_expression), which cuts thin lines; the Laplacian's sigma is
+0.7 averaged pixels, not 2, and only zero crossings with a real edge count
+(log_threshold); spurs shorter than SPUR_MM are pruned; the block size follows
+the scale; the end is the far edge of the mask nearest the skeleton's end (the
+thinning wears thick ends away), refined at full resolution, with a stripped
+conductor's tip beyond it; the directions are fitted over 2 * END_PX skeleton
+points and TANGENT_PX either side of the grasp point instead of the paper's 3
+and 2 (at ~1 mm a pixel those quantise to tens of degrees).
 """
 from __future__ import annotations
 
