@@ -33,7 +33,7 @@ from typing import Optional
 import numpy as np
 
 from ..camera.images import as_grey
-from .common import Clock, block_average, conductor_tip
+from .common import Clock, block_average, conductor_tip, principal_direction
 from .sighting import Sighting
 
 GRASP_MM = 15.0
@@ -287,7 +287,7 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
         # the wire's axis near the end, fitted past the end's last few (worn) skeleton points
         near = np.array(path[:2 * END_PX], float)  # (row, column)
         centre = near.mean(axis=0)
-        axis = _principal(near)
+        axis = principal_direction(near)
         if (np.array([r, c]) - centre) @ axis < 0:
             axis = -axis  # pointing out of the wire, past the end
         dv, du = float(axis[0]), float(axis[1])
@@ -323,7 +323,7 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
         grasp = path[g]
         if min(grasp) < BORDER_PX or grasp[0] >= h - BORDER_PX or grasp[1] >= w - BORDER_PX:
             continue
-        t = _principal(np.array(path[max(g - TANGENT_PX, 0):g + TANGENT_PX + 1], float))
+        t = principal_direction(np.array(path[max(g - TANGENT_PX, 0):g + TANGENT_PX + 1], float))
         tangent = math.degrees(math.atan2(t[0], t[1])) % 180.0
         end_angle = math.degrees(math.atan2(-dv, -du))
         clearance = _clearance(mask, grasp, tangent) * mm
@@ -332,12 +332,6 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
         out.append(Sighting(end_uv, end_angle, _to_input(grasp[1], grasp[0], k), tangent, score=clearance))
     out.sort(key=lambda s: -s.score)
     return out
-
-
-def _principal(pts: np.ndarray) -> np.ndarray:
-    """The direction (unit (row, column)) along which points spread most."""
-    d = pts - pts.mean(axis=0)
-    return np.linalg.svd(d, full_matrices=False)[2][0]
 
 
 def _nearest_skeleton(skeleton: np.ndarray, mask: np.ndarray) -> np.ndarray:

@@ -20,6 +20,11 @@ def block_average(grey: np.ndarray, k: int) -> np.ndarray:
     return out
 
 
+def principal_direction(pts: np.ndarray) -> np.ndarray:
+    """The unit direction along which points spread most (either sign)."""
+    return np.linalg.svd(pts - pts.mean(axis=0), full_matrices=False)[2][0]
+
+
 def conductor_tip(image: np.ndarray, end: np.ndarray, out: np.ndarray, width: float, ppm: float,
                   bright: float):
     """The tip of a thinner, brighter conductor (a stripped end or a ferrule) running on

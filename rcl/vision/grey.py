@@ -43,7 +43,7 @@ from typing import Optional
 import numpy as np
 
 from ..camera.images import as_grey
-from .common import Clock, block_average, conductor_tip
+from .common import Clock, block_average, conductor_tip, principal_direction
 from .sighting import Sighting
 
 GRASP_MM = 15.0
@@ -74,6 +74,7 @@ class GreyResult:
         self.threshold = 0.0
         self.scale = 1  # input pixels per working pixel
         self.region_order: list[tuple[int, int]] = []  # planning regions (row, col) in visiting order
+        self.looks = None  # the end reader (its .rejected says which test refused each end)
 
 
 def edges(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -409,7 +410,7 @@ class _Looks:
             return self._no("no wire width")
         # the wire's axis near the end, pointing into the wire
         axis_pts = centre[near:near + int(6 * ppm)]
-        inward = _direction(axis_pts)
+        inward = principal_direction(axis_pts)
         if (axis_pts[-1] - axis_pts[0]) @ inward < 0:
             inward = -inward
         half = seg_half(unit)
@@ -446,7 +447,7 @@ class _Looks:
         around = centre[at <= 3.0 * ppm]
         if len(around) < 3:
             return self._no("no tangent")
-        tvec = _direction(around)
+        tvec = principal_direction(around)
         tangent = math.degrees(math.atan2(tvec[0], tvec[1])) % 180.0
         end_angle = math.degrees(math.atan2(inward[0], inward[1]))
         h, w = self.work.shape
@@ -510,13 +511,6 @@ class _Looks:
 
 def seg_half(unit: float) -> int:
     return max(int(round(SEGMENT * unit / 2)), 4)
-
-
-def _direction(pts: np.ndarray) -> np.ndarray:
-    """The principal direction of a set of points (unit (row, col))."""
-    d = pts - pts.mean(axis=0)
-    _, _, vt = np.linalg.svd(d, full_matrices=False)
-    return vt[0]
 
 
 def _binned(centre: np.ndarray, along: np.ndarray, ppm: float, upto: float) -> tuple[np.ndarray, np.ndarray]:
