@@ -33,7 +33,7 @@ from typing import Optional
 import numpy as np
 
 from ..camera.images import as_grey
-from .common import Clock, block_average, conductor_tip, principal_direction
+from .common import Clock, block_average, conductor_tip, principal_direction, tray_level
 from .sighting import Sighting
 
 GRASP_MM = 15.0
@@ -243,10 +243,7 @@ class _Looks:
         self.grey = grey
         self.threshold = threshold
         self.dark = dark
-        sample = grey[::4, ::4]  # a 1-in-16 subsample estimates the tray's level and noise as well
-        tray = float(np.median(sample))
-        noise = 1.4826 * float(np.median(np.abs(sample - tray)))
-        self.tray = tray
+        self.tray, noise = tray_level(grey, 4)
         self.shine = max(4 * noise, 0.05)
 
     def extend_end(self, u: float, v: float, du: float, dv: float, limit_px: float) -> float:

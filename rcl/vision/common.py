@@ -20,6 +20,14 @@ def block_average(grey: np.ndarray, k: int) -> np.ndarray:
     return out
 
 
+def tray_level(image: np.ndarray, step: int) -> tuple[float, float]:
+    """(the tray's grey level, the noise's sigma): the median and the scaled median absolute
+    deviation of a 1-in-step-squared subsample (most of a tray is bare tray)."""
+    sample = image[::step, ::step]
+    tray = float(np.median(sample))
+    return tray, 1.4826 * float(np.median(np.abs(sample - tray)))
+
+
 def principal_direction(pts: np.ndarray) -> np.ndarray:
     """The unit direction along which points spread most (either sign)."""
     return np.linalg.svd(pts - pts.mean(axis=0), full_matrices=False)[2][0]

@@ -43,7 +43,7 @@ from typing import Optional
 import numpy as np
 
 from ..camera.images import as_grey
-from .common import Clock, block_average, conductor_tip, principal_direction
+from .common import Clock, block_average, conductor_tip, principal_direction, tray_level
 from .sighting import Sighting
 
 GRASP_MM = 15.0
@@ -193,11 +193,10 @@ def chain_points(start: tuple[int, int], codes: bytes) -> np.ndarray:
 
 
 class _Tracer:
-    """Dynamic contour following on the working image's edges (flat lists: fast in Python)."""
+    """Dynamic contour following on the working image's edges (flat memoryviews: fast in Python)."""
 
     def __init__(self, gc: np.ndarray, gr: np.ndarray, mag: np.ndarray, threshold: float) -> None:
         h, w = mag.shape
-        self.h, self.w = h, w
         self.W = w + 2 * PAD
         pad = lambda a: np.pad(a, PAD).ravel()  # noqa: E731
         self.mag_np = np.pad(mag, PAD)
@@ -216,8 +215,7 @@ class _Tracer:
         self.unit = [(dr / math.hypot(dr, dc), dc / math.hypot(dr, dc)) for dr, dc in STEPS]
         self.count = 0
         self.ride_max = 2 * SEGMENT  # steps a trace may run along another's boundary
-        ridge = _ridge(mag, gc, gr) & (mag > threshold)
-        self.ridge = ridge
+        self.ridge = _ridge(mag, gc, gr) & (mag > threshold)
 
     def starts(self, r0: int, r1: int, c0: int, c1: int):
         """The region's ridge points, strongest first, that no trace has passed."""
@@ -350,9 +348,7 @@ class _Looks:
         self.mag = mag
         self.t = threshold
         self.ppm = ppm
-        sample = work[::2, ::2]
-        self.tray = float(np.median(sample))
-        noise = 1.4826 * float(np.median(np.abs(sample - self.tray)))
+        self.tray, noise = tray_level(work, 2)
         self.shine = max(5 * noise, 0.04)
         self.rejected: list[str] = []  # which test turned each candidate end down (for tuning)
 
@@ -396,7 +392,7 @@ class _Looks:
             bwd = ring[(tip - np.arange(1, reach)) % m]
         else:
             if tip + reach > n or tip - reach < 0:
-                return None  # the boundary stops before the grasp point: not free
+                return self._no("boundary stops short")  # before the grasp point: not free
             fwd = pts[tip + 1:tip + reach]
             bwd = pts[tip - 1:tip - reach:-1]
         # pair each point of one side with the nearest of the other: the centre line between
@@ -419,7 +415,7 @@ class _Looks:
         h, w = self.work.shape
         inner = np.clip(np.round(axis_pts).astype(int), 0, [h - 1, w - 1])
         dark = float(np.median(self.work[inner[:, 0], inner[:, 1]])) < self.tray
-        tip_rc = self._tip(end_rc, -inward, w0) if dark else None
+        tip_rc = conductor_tip(self.work, end_rc, -inward, w0, ppm, self.tray + self.shine) if dark else None
         if tip_rc is False:
             return self._no("more than a conductor")
         conductor = None
@@ -450,7 +446,6 @@ class _Looks:
         tvec = principal_direction(around)
         tangent = math.degrees(math.atan2(tvec[0], tvec[1])) % 180.0
         end_angle = math.degrees(math.atan2(inward[0], inward[1]))
-        h, w = self.work.shape
         margin = 3.0 * ppm
         span_pts, arc = _binned(centre, along, ppm, span_s)
         if conductor is not None:  # the conductor is part of the span that must be free
@@ -466,9 +461,6 @@ class _Looks:
             return self._no("not isolated")
         return Sighting((float(end_rc[1]), float(end_rc[0])), end_angle, (float(grasp[1]), float(grasp[0])),
                         tangent, score=clearance)
-
-    def _tip(self, end: np.ndarray, out: np.ndarray, width: float):
-        return conductor_tip(self.work, end, out, width, self.ppm, self.tray + self.shine)
 
     def _clearance(self, centre: np.ndarray, arc: np.ndarray, width: float, end: np.ndarray,
                    inward: np.ndarray) -> Optional[float]:
