@@ -45,13 +45,23 @@ def _parser() -> argparse.ArgumentParser:
                             "or a model file")
     setup.add_argument("--realtime", action="store_true", help="the simulator takes real time for its motions")
     setup.add_argument("--plot", metavar="FILE.png", help="the simulator draws the path of T5 into FILE.png")
+    setup.add_argument("--cell", metavar="FILE.toml",
+                       help="the work cell's description (default: the built-in simulated cell); "
+                            "--camera, --robot and --model replace its parts")
+    setup.add_argument("--seed", type=_natural, default=0, metavar="N",
+                       help="the simulated cell's tray of wires (default 0)")
     run = sub.add_parser("run", parents=[setup], help="check and run an .rcl program")
     run.add_argument("file", metavar="FILE")
+    run.add_argument("--report", metavar="FILE.json",
+                     help="write how the run went on the simulated cell: wires, attempts, failures, timings")
+    run.add_argument("--pictures", metavar="DIR",
+                     help="write a PNG per look: the camera image, what vision saw, the grasp and the outcome")
     run.set_defaults(handler=_run)
     repl = sub.add_parser("repl", parents=[setup], help="the interactive prompt (the default command)")
     repl.set_defaults(handler=_repl, file="<stdin>")
     check = sub.add_parser("check", help="check .rcl programs without running them")
     check.add_argument("files", nargs="+", metavar="FILE")
+    check.add_argument("--cell", metavar="FILE.toml", help="the work cell whose frames IMPORT 'cell' gives")
     check.set_defaults(handler=_check)
     vision = sub.add_parser("vision", help="find graspable wire ends in images")
     vision.add_argument("images", nargs="+", metavar="IMAGE")
@@ -76,6 +86,16 @@ def _parser() -> argparse.ArgumentParser:
     apply.add_argument("query", metavar="QUERY.csv", help="header u,v (warp) or u,v,z (linear)")
     apply.set_defaults(handler=_calib_apply)
     return p
+
+
+def _natural(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
+    if n < 0:
+        raise argparse.ArgumentTypeError(f"must be 0 or more: {n}")
+    return n
 
 
 def _positive_int(text: str) -> int:
@@ -109,21 +129,36 @@ class _SetupError(Exception):
     """An option that names a camera or robot that cannot be had."""
 
 
-def _session_factory(args):
-    """A function making sessions with the camera and robot the options ask for (one robot, reused)."""
-    from .camera import ImageError, ImageFiles
-    from .robots import RobotError
-    from .session import Session
+def _config(args):
+    from .cell import CellConfigError, load_config
 
     try:
-        camera = ImageFiles(args.camera) if args.camera else None
-    except ImageError as e:
-        raise _SetupError(f"rcl: error: --camera: {e}") from None
+        return load_config(args.cell)
+    except CellConfigError as e:
+        raise _SetupError(f"rcl: error: --cell: {e}") from None
+
+
+def _open_cell(args):
+    """The cell the options ask for: the described one, or its frames with the parts named by hand."""
+    from .camera import ImageError, ImageFiles
+    from .robots import RobotError
+    from .workcell import Cell, CellSetupError, open_cell
+
+    config = _config(args)
+    if args.camera or args.robot != "sim" or args.model:
+        try:
+            camera = ImageFiles(args.camera) if args.camera else None
+        except ImageError as e:
+            raise _SetupError(f"rcl: error: --camera: {e}") from None
+        try:
+            robot = _robot(args)
+        except RobotError as e:
+            raise _SetupError(f"rcl: error: --robot: {e}") from None
+        return Cell(config, robot, camera, None)
     try:
-        robot = _robot(args)
-    except RobotError as e:
-        raise _SetupError(f"rcl: error: --robot: {e}") from None
-    return robot, lambda: Session(step_budget=args.step_budget, camera=camera, robot=robot)
+        return open_cell(config, seed=args.seed, realtime=args.realtime)
+    except CellSetupError as e:
+        raise _SetupError(f"rcl: error: --cell: {e}") from None
 
 
 def _finish(robot, args) -> None:
@@ -134,23 +169,34 @@ def _finish(robot, args) -> None:
 
 
 def _with_setup(args, body) -> int:
-    """body(new_session) with the camera and robot the options ask for; the robot is finished after."""
+    """body(cell, new_session) with the cell the options ask for; its robot is finished after."""
+    from .session import Session
+
     try:
-        robot, new_session = _session_factory(args)
+        cell = _open_cell(args)
     except _SetupError as e:
         return _fail(str(e), EXIT_STATIC)
     try:
-        return body(new_session)
+        return body(cell, lambda: Session(step_budget=args.step_budget, cell=cell))
     finally:
-        _finish(robot, args)
+        _finish(cell.robot, args)
 
 
 def _run(args) -> int:
-    return _with_setup(args, lambda new_session: _run_session(new_session(), args))
+    def body(cell, new_session) -> int:
+        from .runreport import RunWatcher
+
+        session = new_session()
+        watcher = RunWatcher(cell.sim, session) if cell.sim is not None else None
+        code = _run_session(session, args)
+        if watcher is not None and code != EXIT_STATIC:
+            code = watcher.finish(args.report, args.pictures) or code
+        return code
+    return _with_setup(args, body)
 
 
 def _repl(args) -> int:
-    def body(new_session) -> int:
+    def body(cell, new_session) -> int:
         if not sys.stdin.isatty():
             return _run_session(new_session(), args, sys.stdin.read())  # piped input runs as a script
         from .repl import Repl
@@ -187,11 +233,16 @@ def _run_session(session, args, source: Optional[str] = None) -> int:
 
 def _check(args) -> int:
     from .session import FileNotReadable, Session
+    from .workcell import Cell
 
+    try:
+        cell = Cell(_config(args), None, None, None)
+    except _SetupError as e:
+        return _fail(str(e), EXIT_STATIC)
     status = EXIT_OK
     for path in args.files:
         try:
-            diagnostics = Session().check_file(path)
+            diagnostics = Session(cell=cell).check_file(path)
         except FileNotReadable as e:
             print(f"rcl: error: {e}", file=sys.stderr)
             status = EXIT_STATIC

@@ -41,8 +41,9 @@ class Context:
     and the step counter that cancellation and the step budget use.
     """
 
-    def __init__(self, robot=None, camera=None, camera_model=None, wire_finder=None, out=None) -> None:
+    def __init__(self, robot=None, camera=None, camera_model=None, wire_finder=None, out=None, cell=None) -> None:
         self.robot = robot
+        self.cell = cell  # the simulated cell (rcl.cell.SimCell) with its stations, or None
         self.camera = camera
         self.camera_model = camera_model
         self.wire_finder = wire_finder

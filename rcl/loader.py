@@ -1,8 +1,10 @@
 """Load a program: parse the main source and, transitively, every file it IMPORTs.
 
 ``IMPORT 'name'`` finds name.rcl beside the importing file, then in the
-session's search path, then in the standard library (stdlib/). Each file is
-loaded once per session, so import cycles are harmless.
+session's search path, then in the standard library (stdlib/). A session may
+also hold modules made in memory (``IMPORT 'cell'``: the frames of its work
+cell), found before any file. Each module is loaded once per session, so
+import cycles are harmless.
 """
 from __future__ import annotations
 
@@ -32,8 +34,9 @@ def describe_read_error(path, e: Exception) -> str:
 
 
 def load(source: str, filename: str, key: str, base: Path, known: dict[str, A.Module],
-         search: Iterable[Path]) -> list[A.Module]:
-    """[main, new imported modules...]; raises RclStaticError with every load problem."""
+         search: Iterable[Path], made: Optional[dict[str, tuple[str, str]]] = None) -> list[A.Module]:
+    """[main, new imported modules...]; raises RclStaticError with every load problem.
+    made: modules held in memory, by lower-case name: (the name diagnostics show, source)."""
     main = parse(source, filename)
     main.key = key
     modules = [main]
@@ -43,25 +46,31 @@ def load(source: str, filename: str, key: str, base: Path, known: dict[str, A.Mo
     while queue:
         module, folder = queue.pop(0)
         for imp in module.imports:
-            path = _resolve(imp.name, folder, search)
+            held = (made or {}).get(imp.name.lower())
+            path = _resolve(imp.name, folder, search) if held is None else Path(held[0])
             if path is None:
-                errors.append(_error(module, imp.span, f"cannot find module '{imp.name}' "
-                                     f"(looked for {_file_name(imp.name)} beside this file, "
-                                     f"in the search path and in the standard library)"))
+                why = (" (this session has no work cell to give its frames: `rcl run` has one, and "
+                       "Session(cell=open_cell()) in Python)" if imp.name.lower() == "cell" else
+                       f" (looked for {_file_name(imp.name)} beside this file, in the search path and "
+                       f"in the standard library)")
+                errors.append(_error(module, imp.span, f"cannot find module '{imp.name}'{why}"))
                 continue
-            mkey = str(path)
+            mkey = f"<{imp.name.lower()}>" if held is not None else str(path)
             if mkey in known:
                 imp.module = None  # loaded by an earlier run of this session
                 continue
             if mkey in loaded:
                 imp.module = loaded[mkey]
                 continue
-            try:
-                text = read_source(path)
-            except (OSError, UnicodeDecodeError) as e:
-                errors.append(_error(module, imp.span, describe_read_error(path, e)))
-                continue
-            shown = _display_name(path)
+            if held is not None:
+                shown, text = held
+            else:
+                try:
+                    text = read_source(path)
+                except (OSError, UnicodeDecodeError) as e:
+                    errors.append(_error(module, imp.span, describe_read_error(path, e)))
+                    continue
+                shown = _display_name(path)
             try:
                 m = parse(text, shown)
             except RclStaticError as e:

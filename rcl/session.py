@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import contextlib
 import sys
+import time
 from pathlib import Path
 from typing import Any, Callable, Iterable, Optional
 
@@ -43,25 +44,36 @@ class Session:
     """One RCL interpreter with its own state, robot and camera."""
 
     def __init__(self, *, robot=None, camera=None, camera_model=None, wire_finder=None, out=None,
-                 step_budget: Optional[int] = None, search_path: Iterable[str | Path] = ()) -> None:
+                 step_budget: Optional[int] = None, search_path: Iterable[str | Path] = (), cell=None) -> None:
         """robot: a rcl.robots.Robot (default: a SimRobot of the smartarms model); camera: anything with
         grab() -> image array, such as rcl.camera.ImageFiles (default: none);
         camera_model: a rcl.camera.Calibration (default: a new, empty one);
         wire_finder: f(image, method) -> rcl.vision.Sighting | None for BINWIRE and GREYWIRE
         (default: the paper's systems, rcl.vision.find_wires);
         out: where WRITE goes (default: sys.stdout); step_budget: stop a run after this many
-        loop iterations and routine calls; search_path: extra folders for IMPORT."""
+        loop iterations and routine calls; search_path: extra folders for IMPORT;
+        cell: a rcl.workcell.Cell (open_cell()): its robot and camera unless robot or camera are
+        given, a camera model on its tray's plane, its stations, and IMPORT 'cell'."""
         from .camera import Calibration
 
+        self.cell = cell
+        if cell is not None:
+            robot = robot if robot is not None else cell.robot
+            camera = camera if camera is not None else cell.camera
         self.robot = robot if robot is not None else SimRobot()
         self.camera = camera
-        self.camera_model = camera_model if camera_model is not None else Calibration()
+        tray_z = cell.tray_z if cell is not None else 0.0
+        self.camera_model = camera_model if camera_model is not None else Calibration(z=tray_z)
         self.step_budget = step_budget
         self.search_path = [Path(p) for p in search_path]
-        self.px_per_mm = 4.0  # the camera's scale, for the vision systems' millimetre sizes
+        # the camera's scale, for the vision systems' millimetre sizes
+        self.px_per_mm = cell.config.px_per_mm() if cell is not None else 4.0
+        self.on_look: Optional[Callable] = None  # f(image, vision result, ms) after every BINWIRE/GREYWIRE
         if wire_finder is None:
             wire_finder = self._find_wire
-        self._ctx = Context(self.robot, self.camera, self.camera_model, wire_finder, out)
+        sim = cell.sim if cell is not None and self.robot is cell.robot and self.camera is cell.camera else None
+        self._made = {"cell": ("cell.rcl", cell.module_source())} if cell is not None else {}
+        self._ctx = Context(self.robot, self.camera, self.camera_model, wire_finder, out, cell=sim)
         self._scope = GlobalScope(builtins=default_builtins())
         self._values: list = []
         self._ran: set[str] = set()
@@ -118,10 +130,14 @@ class Session:
         from .vision import VisionError, find_wires
 
         try:
-            found = find_wires(image, method, self.px_per_mm).candidates
+            began = time.perf_counter()
+            result = find_wires(image, method, self.px_per_mm)
+            ms = (time.perf_counter() - began) * 1000.0
         except VisionError as e:
             raise BuiltinError(str(e)) from None
-        return found[0] if found else None
+        if self.on_look is not None:
+            self.on_look(image, result, ms)
+        return result.candidates[0] if result.candidates else None
 
     def cancel(self, reason: str = "cancelled", by_user: bool = False) -> None:
         """Stop the running program at its next loop iteration or call (safe from any thread).
@@ -191,7 +207,7 @@ class Session:
     def _check(self, source, filename, key, base):
         with _deep_recursion():
             try:
-                modules = load(source, filename, key, base, self._scope.modules, self.search_path)
+                modules = load(source, filename, key, base, self._scope.modules, self.search_path, self._made)
             except RclStaticError as e:
                 return None, e.diagnostics, None
             scope = self._scope.fork()

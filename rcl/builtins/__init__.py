@@ -102,7 +102,7 @@ def default_builtins() -> dict[str, Builtin]:
 
 @lru_cache(maxsize=1)
 def _builtin_table() -> tuple[tuple[str, Builtin], ...]:
-    from . import camera, core, motion, vision
+    from . import camera, cell, core, motion, vision
 
     return tuple((name.lower(), Builtin.from_function(name, func))
-                 for module in (core, motion, vision, camera) for name, func in module.BUILTINS.items())
+                 for module in (core, motion, vision, camera, cell) for name, func in module.BUILTINS.items())

@@ -98,17 +98,17 @@ def make_tray(kind: str = "sparse", seed: int = 0, size: int = 512, px_per_mm: f
     ws = []
     layers = 3 if kind == "crossing" else 1
     for i in range(n):
-        ws.append(_random_wire(rng, extent, kind, layer=int(rng.integers(layers)) if layers > 1 else i,
+        ws.append(random_wire(rng, extent, kind, layer=int(rng.integers(layers)) if layers > 1 else i,
                                colour=colour, dark_tray=dark_tray))
     if kind == "sparse":
         ws = _keep_apart(ws, rng, extent)
-    image = _render(ws, size, px_per_mm, kind, rng)
+    image = render(ws, size, px_per_mm, kind, rng)
     tray = Tray(image, px_per_mm, ws, kind=kind)
     tray.ends = _ground_truth(ws, extent)
     return tray
 
 
-def _random_wire(rng, extent: float, kind: str, layer: int, colour: bool, dark_tray: bool) -> Wire:
+def random_wire(rng, extent: float, kind: str, layer: int, colour: bool, dark_tray: bool) -> Wire:
     length = rng.uniform(45.0, 90.0)
     margin = 8.0 if kind != "edge" else -25.0
     start = rng.uniform(margin, extent - margin, size=2) if margin > 0 else rng.uniform(-15, extent + 15, size=2)
@@ -152,7 +152,8 @@ def _min_distance(a: np.ndarray, b: np.ndarray) -> float:
     return float(cKDTree(b).query(a)[0].min())
 
 
-def _render(ws: list[Wire], size: int, px_per_mm: float, kind: str, rng) -> np.ndarray:
+def render(ws: list[Wire], size: int, px_per_mm: float, kind: str, rng, noise: float = 0.02) -> np.ndarray:
+    """The image of wires on a tray of the kind's background (top layers drawn last), with noise."""
     from scipy import ndimage
 
     channels = 3 if kind == "colour" else 1
@@ -169,7 +170,7 @@ def _render(ws: list[Wire], size: int, px_per_mm: float, kind: str, rng) -> np.n
             continue
         # the centre line, densely sampled, on a 2x finer local grid; distances by EDT
         fine = np.zeros((2 * (r1 - r0), 2 * (c1 - c0)), bool)
-        dense = _resample(pts, 0.25)
+        dense = resample(pts, 0.25)
         fu = np.round((dense[:, 0] - c0) * 2 + 0.5).astype(int)
         fv = np.round((dense[:, 1] - r0) * 2 + 0.5).astype(int)
         ok = (fu >= 0) & (fu < fine.shape[1]) & (fv >= 0) & (fv < fine.shape[0])
@@ -190,7 +191,8 @@ def _render(ws: list[Wire], size: int, px_per_mm: float, kind: str, rng) -> np.n
         yy, xx = np.mgrid[0:size, 0:size] / size
         light = 0.75 + 0.45 * (0.6 * xx + 0.4 * yy) + 0.1 * np.sin(3 * xx + 1.0)
         img = img * light[..., None]
-    img = img + rng.normal(0.0, 0.02, img.shape)
+    if noise > 0:
+        img = img + rng.normal(0.0, noise, img.shape)
     img = np.clip(img, 0.0, 1.0)
     return img[..., 0] if channels == 1 else img
 
@@ -230,7 +232,7 @@ def _stripped_tips(w: Wire, cover, shade, dist, r, px_per_mm, origin):
     return cover, shade
 
 
-def _resample(pts: np.ndarray, step: float) -> np.ndarray:
+def resample(pts: np.ndarray, step: float) -> np.ndarray:
     seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
     cum = np.concatenate([[0.0], np.cumsum(seg)])
     s = np.arange(0.0, cum[-1] + step, step)
@@ -260,7 +262,7 @@ def _graspable(ws: list[Wire], i: int, end: int, extent: float) -> tuple[bool, s
     for j, other in enumerate(ws):
         if j == i:
             continue
-        dense = _resample(other.centre, 0.5)
+        dense = resample(other.centre, 0.5)
         near = np.min(np.linalg.norm(dense[:, None, :] - tip_zone[None, :, :], axis=2))
         if near < (w.width + other.width) / 2 and other.layer > w.layer:
             return False, "another wire lies on top of it"

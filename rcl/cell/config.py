@@ -1,0 +1,199 @@
+"""The cell description: a TOML file naming the camera, the robot, the frames and the warp.
+
+The built-in description (sim.toml beside this module) is the simulated cell;
+a user's file is read over it, so it need only give what differs. Every value
+is checked against the built-in one's type, and unknown names are refused, so
+a misspelt key is an error rather than a silent default.
+"""
+from __future__ import annotations
+
+import copy
+import math
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Optional
+
+import numpy as np
+
+from ..frame import Frame
+
+DEFAULT = Path(__file__).with_name("sim.toml")
+FRAME_NAMES_REQUIRED = ("Z", "E")
+
+
+class CellConfigError(ValueError):
+    """A cell file that cannot be used; the message names the file and the key."""
+
+
+@dataclass
+class CellConfig:
+    """A checked cell description. data: the merged TOML tables; folder: where relative paths start."""
+
+    data: dict
+    source: str
+    folder: Path
+
+    def __getitem__(self, section: str) -> dict:
+        return self.data[section]
+
+    @property
+    def name(self) -> str:
+        return self.data["name"]
+
+    @property
+    def warp(self) -> Optional[Path]:
+        return self.path(self.data["warp"])
+
+    def path(self, text: str) -> Optional[Path]:
+        """A path named in the file, relative to the file's folder; None for ""."""
+        if not text:
+            return None
+        p = Path(text).expanduser()
+        return p if p.is_absolute() else self.folder / p
+
+    def frame(self, name: str) -> Frame:
+        f = self.data["frames"][name]
+        x, y, z = f["xyz"]
+        roll, pitch, yaw = f["rpy"]
+        return Frame.trans(x, y, z) * Frame.rotz(yaw) * Frame.roty(pitch) * Frame.rotx(roll)
+
+    def stations(self) -> list[str]:
+        """The frames other than Z and E, in file order."""
+        return [n for n in self.data["frames"] if n not in FRAME_NAMES_REQUIRED]
+
+    @property
+    def simulated(self) -> bool:
+        return self.data["robot"]["kind"] == "sim" and self.data["camera"]["kind"] == "sim"
+
+    def px_per_mm(self) -> float:
+        cam = self.data["camera"]
+        return float(cam["px_per_mm"]) or float(cam["width"]) / float(cam["fov_mm"])
+
+
+def load_config(path: str | Path | None = None) -> CellConfig:
+    """The built-in cell, or a user's file read over it; CellConfigError says what is wrong."""
+    base = _read(DEFAULT)
+    if path is None:
+        data, source, folder = base, "the built-in cell", Path.cwd()
+    else:
+        p = Path(path)
+        source = str(p)
+        user = _read(p)
+        data = copy.deepcopy(base)
+        _merge(data, user, base, source, "")
+        folder = p.resolve().parent
+    _check(data, source)
+    return CellConfig(data, source, folder)
+
+
+def _read(path: Path) -> dict:
+    try:
+        with open(path, "rb") as f:
+            return tomllib.load(f)
+    except FileNotFoundError:
+        raise CellConfigError(f"{path}: no such file") from None
+    except IsADirectoryError:
+        raise CellConfigError(f"{path} is a folder, not a cell file") from None
+    except OSError as e:
+        raise CellConfigError(f"cannot read {path}: {e.strerror or e}") from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as e:
+        raise CellConfigError(f"{path}: not a valid TOML file: {e}") from None
+
+
+def _merge(into: dict, user: dict, base: dict, source: str, where: str) -> None:
+    for key, value in user.items():
+        name = f"{where}{key}"
+        if where == "frames." and isinstance(value, dict):
+            into[key] = _merge_frame(into.get(key), value, source, name)
+            continue
+        if key not in base:
+            known = ", ".join(sorted(base))
+            raise CellConfigError(f"{source}: unknown key '{name}' (known here: {known})")
+        if isinstance(base[key], dict):
+            if not isinstance(value, dict):
+                raise CellConfigError(f"{source}: '{name}' must be a table ([{name}])")
+            _merge(into[key], value, base[key], source, name + ".")
+        else:
+            into[key] = _typed(value, base[key], source, name)
+
+
+def _merge_frame(old: Optional[dict], value: dict, source: str, name: str) -> dict:
+    frame = copy.deepcopy(old) if old else {"xyz": [0.0, 0.0, 0.0], "rpy": [0.0, 0.0, 0.0]}
+    for key, v in value.items():
+        if key not in frame:
+            raise CellConfigError(f"{source}: unknown key '{name}.{key}' (a frame has xyz and rpy)")
+        frame[key] = _typed(v, [0.0, 0.0, 0.0], source, f"{name}.{key}")
+    return frame
+
+
+def _typed(value: Any, like: Any, source: str, name: str) -> Any:
+    """value checked to be of the same kind as the built-in value like."""
+    def fail(what: str):
+        raise CellConfigError(f"{source}: '{name}' must be {what}, not {value!r}")
+
+    if isinstance(like, bool):
+        if not isinstance(value, bool):
+            fail("true or false")
+        return value
+    if isinstance(like, (int, float)):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            fail("a number")
+        return type(like)(value) if isinstance(like, float) or float(value).is_integer() else fail("a whole number")
+    if isinstance(like, str):
+        if not isinstance(value, str):
+            fail("a string")
+        return value
+    if isinstance(like, list):
+        if not isinstance(value, list) or len(value) != len(like):
+            fail(f"a list of {len(like)} numbers")
+        return [_typed(v, x, source, name) for v, x in zip(value, like)]
+    return value
+
+
+def _check(data: dict, source: str) -> None:
+    def fail(message: str):
+        raise CellConfigError(f"{source}: {message}")
+
+    robot, camera, tray = data["robot"], data["camera"], data["tray"]
+    if robot["kind"] not in ("sim", "ssc32"):
+        fail(f"robot.kind must be \"sim\" or \"ssc32\", not {robot['kind']!r}")
+    if robot["kind"] == "ssc32" and not robot["port"]:
+        fail("robot.port: an ssc32 arm needs its serial port")
+    if camera["kind"] not in ("sim", "files"):
+        fail(f"camera.kind must be \"sim\" or \"files\", not {camera['kind']!r}")
+    if camera["kind"] == "files" and not camera["folder"]:
+        fail("camera.folder: a files camera needs the folder its images are in")
+    if (robot["kind"] == "sim") != (camera["kind"] == "sim"):
+        fail("a simulated camera needs the simulated arm and tray, and a real camera a real arm: "
+             "make robot.kind and camera.kind both \"sim\" or neither")
+    positive = [("camera.width", camera["width"]), ("camera.height_mm", camera["height_mm"]),
+                ("camera.fov_mm", camera["fov_mm"]), ("tray.size_mm", tray["size_mm"]),
+                ("tray.layers", tray["layers"])]
+    for name, v in positive:
+        if v <= 0:
+            fail(f"{name} must be more than 0, not {v}")
+    if camera["width"] < 64 or camera["width"] > 4096:
+        fail(f"camera.width must be 64 to 4096 px, not {camera['width']}")
+    if camera["px_per_mm"] < 0:
+        fail("camera.px_per_mm must be 0 (from the width and fov) or more")
+    if not 0 <= camera["tilt_deg"] < 45:
+        fail(f"camera.tilt_deg must be 0 to 45, not {camera['tilt_deg']}")
+    low, high = tray["wires"]
+    if not 0 <= low <= high <= 40:
+        fail(f"tray.wires must be [low, high] with 0 <= low <= high <= 40, not {tray['wires']}")
+    for section, key in (("press", "depth_mm"), ("bath", "depth_mm")):
+        a, b = data[section][key]
+        if not 0 <= a < b:
+            fail(f"{section}.{key} must be [low, high] with 0 <= low < high, not {[a, b]}")
+    if not 0 <= data["gripper"]["drop_rate"] <= 1:
+        fail("gripper.drop_rate must be 0 to 1")
+    for name in FRAME_NAMES_REQUIRED:
+        if name not in data["frames"]:
+            fail(f"frames.{name} is missing")
+    for name in data["frames"]:
+        if not (name[:1].isascii() and name[:1].isalpha() and all(c.isascii() and (c.isalnum() or c == "_")
+                                                                     for c in name)):
+            fail(f"frames.{name}: a frame's name must be an RCL name (letters, digits, _)")
+        if not np.all(np.isfinite(np.array(data["frames"][name]["xyz"] + data["frames"][name]["rpy"]))):
+            fail(f"frames.{name}: xyz and rpy must be finite")

@@ -1,0 +1,134 @@
+"""The tray of loose wires: what lies where, in which layer, and its picture.
+
+Positions are tray millimetres: (0, 0) is the tray's corner at the world point
+`origin`, x and y run along the world's X and Y. Wires keep the number they
+were given when the tray was made, whatever happens to them later.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+
+from ..vision.synth import Wire, random_wire, render, resample
+
+PICTURE_PX_PER_MM = 4.0  # the tray picture the camera looks at; the camera resamples it
+
+
+@dataclass
+class Touch:
+    """The wire nearest a point: its number, distance (mm) from its centre line, the nearest
+    centre-line point and the wire's unit tangent there."""
+
+    wire: int
+    distance: float
+    point: np.ndarray
+    tangent: np.ndarray
+
+
+class WireTray:
+    """Wires lying on a square tray of side size_mm; top layers are drawn last."""
+
+    def __init__(self, size_mm: float, origin_xy, rng: np.random.Generator, count: int, layers: int) -> None:
+        self.size = float(size_mm)
+        self.origin = np.array(origin_xy, float)
+        self.rng = rng
+        self.wires: dict[int, Wire] = {}
+        for i in range(count):
+            w = random_wire(rng, self.size, "crossing", layer=int(rng.integers(max(layers, 1))),
+                            colour=False, dark_tray=False)
+            self.wires[i + 1] = w
+        self._dense: dict[int, np.ndarray] = {}
+        self._picture: Optional[np.ndarray] = None
+
+    def __len__(self) -> int:
+        return len(self.wires)
+
+    # What lies where --------------------------------------------------------------
+
+    def dense(self, number: int) -> np.ndarray:
+        """The wire's centre line sampled every 0.25 mm."""
+        d = self._dense.get(number)
+        if d is None:
+            d = self._dense[number] = resample(self.wires[number].centre, 0.25)
+        return d
+
+    def touch(self, number: int, p) -> Touch:
+        pts = self.dense(number)
+        d = np.hypot(pts[:, 0] - p[0], pts[:, 1] - p[1])
+        i = int(np.argmin(d))
+        a, b = pts[max(i - 4, 0)], pts[min(i + 4, len(pts) - 1)]
+        t = (b - a) / max(float(np.linalg.norm(b - a)), 1e-9)
+        return Touch(number, float(d[i]), pts[i].copy(), t)
+
+    def nearest(self, p, within: float = math.inf) -> list[Touch]:
+        """Every wire whose centre line passes within `within` mm of p, nearest first."""
+        found = [t for n in self.wires if (t := self.touch(n, p)).distance <= within]
+        return sorted(found, key=lambda t: t.distance)
+
+    def inside(self, p, margin: float = 0.0) -> bool:
+        return bool(margin <= p[0] <= self.size - margin and margin <= p[1] <= self.size - margin)
+
+    def to_tray(self, xy) -> np.ndarray:
+        return np.asarray(xy, float)[..., :2] - self.origin
+
+    # Changes ----------------------------------------------------------------------
+
+    def remove(self, number: int) -> Wire:
+        self._changed(number)
+        return self.wires.pop(number)
+
+    def put(self, number: int, centre: np.ndarray, wire: Wire) -> None:
+        """A wire laid (back) on the tray along centre (tray mm), on top of every other."""
+        top = max((w.layer for w in self.wires.values()), default=0) + 1
+        self.wires[number] = Wire(np.asarray(centre, float), wire.width, top, wire.level, wire.tip)
+        self._changed(number)
+
+    def nudge(self, p, radius: float, push_mm: float, turn_deg: float) -> list[int]:
+        """The wires passing within radius of p pushed aside (fingers closing on the wrong spot)."""
+        moved = [t.wire for t in self.nearest(p, radius)]
+        for n in moved:
+            w = self.wires[n]
+            shift = self.rng.normal(0.0, push_mm / 2, 2)
+            w.centre = self.kept_on(_turned(w.centre, p, self.rng.normal(0.0, turn_deg / 2)) + shift)
+            self._changed(n)
+        return moved
+
+    def shake(self) -> None:
+        """The tray vibrated: every wire slides and turns a little and the pile settles anew."""
+        numbers = list(self.wires)
+        order = self.rng.permutation(len(numbers))
+        for rank, n in zip(order, numbers):
+            w = self.wires[n]
+            centre = _turned(w.centre, w.centre.mean(axis=0), self.rng.uniform(-40.0, 40.0))
+            centre = centre + self.rng.uniform(-20.0, 20.0, 2)
+            w.centre = self.kept_on(centre)
+            w.layer = int(rank)
+            self._changed(n)
+
+    def kept_on(self, centre: np.ndarray) -> np.ndarray:
+        lo, hi = centre.min(axis=0), centre.max(axis=0)
+        shift = np.clip(lo, 4.0, None) - lo + np.clip(hi, None, self.size - 4.0) - hi
+        return centre + shift
+
+    def _changed(self, number: int) -> None:
+        self._dense.pop(number, None)
+        self._picture = None
+
+    # The picture ------------------------------------------------------------------
+
+    def picture(self) -> np.ndarray:
+        """The tray as seen from straight above, PICTURE_PX_PER_MM px per mm, without noise."""
+        if self._picture is None:
+            size = int(round(self.size * PICTURE_PX_PER_MM))
+            self._picture = render(list(self.wires.values()), size, PICTURE_PX_PER_MM, "crossing",
+                                   self.rng, noise=0.0).astype(np.float32)
+        return self._picture
+
+
+def _turned(points: np.ndarray, about, deg: float) -> np.ndarray:
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    d = points - np.asarray(about, float)
+    return np.asarray(about, float) + d @ np.array([[c, s], [-s, c]])

@@ -1,0 +1,457 @@
+"""SimCell: the simulated work cell: tray, camera, arm, gripper, press and solder bath.
+
+The arm and the camera it hands out implement the same interfaces as real
+hardware (rcl.robots.Robot, grab() -> image), so whatever drives a real cell
+drives this one. What the cell adds is the physics a task meets:
+
+- the arm's real position strays smoothly from the commanded one by 1-3 mm
+  (the paper's "manipulator inaccuracy"), plus a little random scatter;
+- the camera renders a fresh picture of the tray as it now is, through a
+  tilted lens with radial distortion, and shows the calibration disc on the
+  closed fingertips when they are low over the tray (the arm itself is not
+  drawn: a task looks with the arm out of the way);
+- the tray stands on a load cell that tells whether any wire is left;
+- closing the gripper takes a wire only when the fingers close within about
+  1 mm of its centre line, square to it, where it lies on top with room for
+  the fingers; a miss pushes the wires there aside. The fingers centre the
+  wire between them but do not turn it. A taken wire may slip out on the way;
+- the press crimps when the held wire's end sits in the die, near its axis,
+  along it and deep enough; the bath tins an end dipped to the right depth for
+  long enough; a wire released away from the tray leaves the cell (done if
+  crimped or tinned, rejected otherwise); released over the tray it lies there
+  again.
+
+The stations are where the cell file says, as taught: the die and the solder
+surface lie where the arm really takes a wire end when it is sent to the
+station's frame holding the wire 15 mm from its end, so the arm's inaccuracy
+there is already allowed for, as it is when a real station is taught by
+leading the arm to it.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Optional, Sequence
+
+import numpy as np
+
+from ..camera.simulated import PinholeCamera, render_disc
+from ..frame import Frame
+from ..robots import Robot, SimRobot
+from .config import CellConfig
+from .optics import TrayView
+from ..vision.synth import Wire, resample
+from .tray import PICTURE_PX_PER_MM, WireTray
+
+LIGHT = 0.75  # the lighting: the tray (0.8 in its picture) is seen at 0.6
+TABLE_LEVEL = 0.7  # the bench around the tray, as the camera sees it
+MARKER_RADIUS_MM = 3.0
+MARKER_LEVEL = 1.0
+MARKER_SEEN_BELOW_MM = 20.0  # the disc on the closed fingertips is seen when they are this low over the tray
+PICK_BELOW_MM = 50.0  # closing the fingers lower than this over the tray is a pick
+NOMINAL_GRASP_MM = 15.0  # how far from the end a station's frame assumes the wire is held
+RELEASE_ON_TRAY_BELOW_MM = 80.0
+SHAKE_SECONDS = 2.0
+
+
+class Inaccuracy:
+    """The arm's smooth position error: a fixed offset of `size` mm in a seeded direction plus a
+    slow ripple of half that over the workspace (wavelengths 250-400 mm)."""
+
+    def __init__(self, size: float, seed: int) -> None:
+        rng = np.random.default_rng([seed, 7])
+        heading = rng.uniform(0, 2 * math.pi)
+        self.offset = size * np.array([math.cos(heading), math.sin(heading), 0.0])
+        self.ripple = np.array([0.5, 0.5, 0.15]) * size
+        dirs = rng.normal(size=(3, 3))
+        waves = rng.uniform(250.0, 400.0, 3)
+        self.k = 2 * math.pi * dirs / np.linalg.norm(dirs, axis=1, keepdims=True) / waves[:, None]
+        self.phase = rng.uniform(0, 2 * math.pi, 3)
+
+    def __call__(self, p) -> np.ndarray:
+        """The error (mm) at commanded position p (mm)."""
+        return self.offset + self.ripple * np.sin(self.k @ np.asarray(p, float)[:3] + self.phase)
+
+
+@dataclass
+class Held:
+    wire: int
+    body: Wire
+    shape: np.ndarray  # (4, N) the centre line in the tool frame, homogeneous
+    look: int
+    crimped: bool = False
+    tinned: bool = False
+    burnt: bool = False
+    dipped: float = 0.0  # seconds in the solder at the right depth
+    note: str = ""  # why the last station visit did not work
+    carried: bool = False  # has moved since it was taken
+
+
+@dataclass
+class Event:
+    what: str  # pick, slip, press, bath, release, shake
+    ok: bool
+    wire: Optional[int]
+    look: int  # the number of the image the task looked at last (1-based; 0: none yet)
+    why: str = ""
+    time_s: float = 0.0
+
+    def as_dict(self) -> dict:
+        return {"what": self.what, "ok": self.ok, "wire": self.wire, "look": self.look, "why": self.why,
+                "time_s": round(self.time_s, 3)}
+
+
+@dataclass
+class Die:
+    """A station as the cell really has it: the point the wire end must reach and the way in."""
+
+    target: np.ndarray
+    axis: np.ndarray  # unit, the direction the end travels in
+
+
+class SimCell:
+    """The simulated cell of a description, with a tray made from seed (wires: (low, high) to
+    override the description's count)."""
+
+    def __init__(self, config: CellConfig, seed: int = 0, wires: Optional[Sequence[int]] = None) -> None:
+        self.config = config
+        cam, tray, robot = config["camera"], config["tray"], config["robot"]
+        self.rng = np.random.default_rng([seed, 1])
+        low, high = wires if wires is not None else tray["wires"]
+        size = float(tray["size_mm"])
+        centre = np.array(tray["centre"], float)
+        self.tray_z = float(tray["z"])
+        self.tray = WireTray(size, centre - size / 2, np.random.default_rng([seed, 2]),
+                             int(self.rng.integers(low, high + 1)), int(tray["layers"]))
+        self.wires_total = len(self.tray)
+        self.lens = PinholeCamera.over_tray(centre_xy=tuple(centre), height_mm=cam["height_mm"],
+                                            fov_mm=cam["fov_mm"], width=int(cam["width"]),
+                                            tilt_deg=cam["tilt_deg"], k1=cam["k1"], k2=cam["k2"])
+        self.lens = PinholeCamera(self.lens.width, self.lens.height, self.lens.focal_px,
+                                  self.lens.pose.copy(), self.lens.k1, self.lens.k2)
+        self.lens.pose[2, 3] += self.tray_z
+        self._view: Optional[TrayView] = None
+        self.noise = float(cam["noise"])
+        self.Z = config.frame("Z").matrix
+        self.E = config.frame("E").matrix
+        self.error = Inaccuracy(float(robot["inaccuracy_mm"]), int(robot["seed"]))
+        self.scatter = float(robot["repeatability_mm"])
+        self.jitter = np.zeros(3)
+        self.g, self.press_cfg, self.bath_cfg = config["gripper"], config["press"], config["bath"]
+        self.press = self._station("PRESS") if "PRESS" in config["frames"] else None
+        self.bath = self._station("BATH") if "BATH" in config["frames"] else None
+        self.arm = CellArm(SimRobot(robot["model"]), self)
+        self.camera = CellCamera(self)
+        self.held: Optional[Held] = None
+        self.attempts = 0
+        self.events: list[Event] = []
+        self.results: dict[int, str] = {}  # wire -> crimped, tinned, rejected, lost
+
+    @property
+    def view(self) -> TrayView:
+        if self._view is None:  # computed at the first look: a cell that never looks does not pay
+            self._view = TrayView(self.lens, self.tray_z)
+        return self._view
+
+    def _station(self, name: str) -> Die:
+        f = self.config.frame(name)
+        tool = (f * Frame.trans(0, 0, NOMINAL_GRASP_MM) * Frame.roty(-90)).matrix
+        wire_over_tool = 1.0 * -tool[:3, 2]  # a 2 mm wire lies 1 mm beyond the fingertips
+        target = f.matrix[:3, 3] + self.error(tool[:3, 3]) + wire_over_tool
+        return Die(target, -f.matrix[:3, 2])
+
+    # Where the tool really is ---------------------------------------------------------
+
+    def tool(self) -> np.ndarray:
+        """The real pose of the tool (fingertips) in the world."""
+        t = self.Z @ self.arm.inner.here() @ self.E
+        t[:3, 3] += self.error(t[:3, 3]) + self.jitter
+        return t
+
+    def _event(self, what: str, ok: bool, wire: Optional[int], why: str = "") -> Event:
+        e = Event(what, ok, wire, self.camera.grabs, why, self.arm.inner.clock)
+        self.events.append(e)
+        return e
+
+    # The camera ---------------------------------------------------------------------
+
+    def grab(self) -> np.ndarray:
+        img = LIGHT * self.view.look(self.tray.picture(), tuple(self.tray.origin), PICTURE_PX_PER_MM,
+                                     TABLE_LEVEL / LIGHT)
+        t = self.tool()
+        p = t[:3, 3]
+        height = p[2] - self.tray_z
+        if not self.arm.inner.gripper_open and t[2, 2] < -0.9 and -1.0 <= height <= MARKER_SEEN_BELOW_MM:
+            u, v = self.lens.project(*p)
+            r = MARKER_RADIUS_MM * self.lens.focal_px / float(self.lens.depth(*p))
+            cover = render_disc(img.shape, (float(u), float(v)), r, 1.0, 0.0)
+            img = img * (1.0 - cover) + MARKER_LEVEL * cover
+        img = img + self.rng.normal(0.0, self.noise, img.shape)
+        return np.clip(img, 0.0, 1.0).astype(np.float32)
+
+    # The gripper --------------------------------------------------------------------
+
+    def closed(self) -> None:
+        if self.held is not None:
+            return
+        t = self.tool()
+        p = self.tray.to_tray(t[:3, 3])
+        height = t[2, 3] - self.tray_z
+        if not self.tray.inside(p) or height > PICK_BELOW_MM:
+            return  # closing in the air: not a pick
+        self.attempts += 1
+        wire, why = self._grasp(t, p, height)
+        if wire is None:
+            self._event("pick", False, self._nearest(p), why)
+            if height <= self.g["height_mm"]:
+                self.tray.nudge(p, 4.0, 2.0, 6.0)
+            return
+        self._event("pick", True, wire)
+
+    def _nearest(self, p) -> Optional[int]:
+        found = self.tray.nearest(p, 6.0)
+        return found[0].wire if found else None
+
+    def _grasp(self, t: np.ndarray, p: np.ndarray, height: float) -> tuple[Optional[int], str]:
+        g = self.g
+        if t[2, 2] > -math.cos(math.radians(30)):
+            return None, "the fingers did not point down into the tray"
+        if height > g["height_mm"]:
+            return None, f"the fingers closed {height:.1f} mm above the tray, over the wires"
+        if height < -1.0:
+            return None, f"the fingers were driven {-height:.1f} mm into the tray"
+        near = self.tray.nearest(p, g["tolerance_mm"])
+        if not near:
+            found = self.tray.nearest(p)
+            far = f"{found[0].distance:.1f} mm" if found else "nothing"
+            return None, f"the fingers closed on nothing: the nearest centre line was {far} away"
+        touch = max(near, key=lambda k: self.tray.wires[k.wire].layer)
+        wire = self.tray.wires[touch.wire]
+        closing = t[:2, 1] / max(float(np.linalg.norm(t[:2, 1])), 1e-9)
+        off_square = math.degrees(math.asin(min(1.0, abs(float(closing @ touch.tangent)))))
+        if off_square > g["angle_deg"]:
+            return None, f"the fingers met wire {touch.wire} {off_square:.0f} degrees off square"
+        for n, other in self.tray.wires.items():
+            if n == touch.wire:
+                continue
+            d = self.tray.touch(n, touch.point).distance
+            if other.layer > wire.layer and d < (wire.width + other.width) / 2 + 0.5:
+                return None, f"wire {touch.wire} lies under wire {n} there"
+            if d < g["room_mm"] + other.width / 2:
+                return None, f"no room for the fingers: wire {n} lies {d:.1f} mm from wire {touch.wire} there"
+        # Taken: the fingers centre the wire between them (along the closing direction).
+        self.tray.remove(touch.wire)
+        shift = float((p - touch.point) @ closing) * closing
+        pts = resample(wire.centre, 0.25) + shift
+        world = np.vstack([pts[:, 0] + self.tray.origin[0], pts[:, 1] + self.tray.origin[1],
+                           np.full(len(pts), self.tray_z + wire.width / 2), np.ones(len(pts))])
+        self.held = Held(touch.wire, wire, np.linalg.inv(t) @ world, self.camera.grabs)
+        return touch.wire, ""
+
+    def held_points(self, h: Optional[Held] = None) -> np.ndarray:
+        """The held wire's centre line in the world, (N, 3)."""
+        return (self.tool() @ (h or self.held).shape)[:3].T
+
+    def moved(self) -> None:
+        self.jitter = self.rng.normal(0.0, self.scatter, 3) if self.scatter > 0 else np.zeros(3)
+        h = self.held
+        if h is None or h.carried:
+            return
+        h.carried = True
+        if self.rng.random() < self.g["drop_rate"]:
+            self._fall("slip", "slipped out of the fingers")
+
+    def _fall(self, what: str, how: str) -> None:
+        """The held wire falls: onto the tray if it is over it, else out of the cell."""
+        h = self.held
+        self.held = None
+        pts = self.tray.to_tray(self.held_points(h))
+        if self.tray.inside(pts.mean(axis=0)):
+            self.tray.put(h.wire, self.tray.kept_on(pts[::2]), h.body)
+            self._event(what, False, h.wire, f"wire {h.wire} {how} and fell back on the tray")
+        else:
+            self.results[h.wire] = "lost"
+            self._event(what, False, h.wire, f"wire {h.wire} {how} and fell off the tray")
+
+    def opened(self) -> None:
+        h = self.held
+        if h is None:
+            return
+        t = self.tool()
+        p = self.tray.to_tray(t[:3, 3])
+        if self.tray.inside(p) and t[2, 3] - self.tray_z < RELEASE_ON_TRAY_BELOW_MM:
+            self._fall("release", "was let go over the tray")
+            return
+        self.held = None
+        if h.crimped or h.tinned:
+            self.results[h.wire] = "crimped" if h.crimped else "tinned"
+            self._event("release", True, h.wire)
+        else:
+            self.results[h.wire] = "rejected"
+            why = h.note or ("neither crimped nor tinned" if not h.burnt else "its insulation was burnt")
+            self._event("release", False, h.wire, f"wire {h.wire} was let go {why}")
+
+    # The stations ---------------------------------------------------------------------
+
+    def _end(self, near: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The held wire's end nearest a point, and the direction it points (from 2 mm back)."""
+        pts = self.held_points()
+        if np.linalg.norm(pts[0] - near) > np.linalg.norm(pts[-1] - near):
+            pts = pts[::-1]
+        d = pts[0] - pts[min(8, len(pts) - 1)]
+        return pts[0], d / max(float(np.linalg.norm(d)), 1e-9)
+
+    def crimp(self) -> bool:
+        """Cycle the press. It closes only with a wire end in the die, and then crimps it."""
+        if self.press is None:
+            raise CellError("this cell has no press")
+        self.arm.inner.delay(0.5)
+        h = self.held
+        if h is None:
+            self._event("press", False, None, "the press found no wire in the die")
+            return False
+        end, direction = self._end(self.press.target)
+        a = self.press.axis
+        cfg = self.press_cfg
+        mouth = self.press.target - a * (sum(cfg["depth_mm"]) / 2)
+        rel = end - mouth
+        depth = float(rel @ a)
+        lateral = float(np.linalg.norm(rel - depth * a))
+        angle = math.degrees(math.acos(max(-1.0, min(1.0, float(direction @ a)))))
+        low, high = cfg["depth_mm"]
+        why = ""
+        if lateral > cfg["tolerance_mm"]:
+            why = f"its end was {lateral:.1f} mm off the die's axis"
+        elif angle > cfg["angle_deg"]:
+            why = f"it met the die {angle:.0f} degrees off its axis"
+        elif depth < low:
+            why = f"its end was only {depth:.1f} mm into the die"
+        elif depth > high:
+            why = f"its end was pushed {depth:.1f} mm into a die {high:g} mm deep"
+        h.note = why and f"uncrimped: {why}"
+        h.crimped = h.crimped or not why
+        self._event("press", not why, h.wire, why and f"wire {h.wire} not crimped: {why}")
+        return not why
+
+    def waited(self, seconds: float) -> None:
+        h = self.held
+        if h is None or self.bath is None:
+            return
+        end, direction = self._end(self.bath.target + np.array([0.0, 0.0, -100.0]))
+        cfg = self.bath_cfg
+        centre = self.bath.target
+        if np.hypot(*(end[:2] - centre[:2])) > cfg["radius_mm"]:
+            return
+        depth = float(centre[2] - end[2])
+        if depth <= 0:
+            return
+        low, high = cfg["depth_mm"]
+        angle = math.degrees(math.acos(max(-1.0, min(1.0, -float(direction[2])))))
+        if depth > high:
+            h.burnt = True
+            h.note = f"burnt: dipped {depth:.1f} mm, deeper than the {high:g} mm stripped"
+        elif depth < low:
+            h.note = f"untinned: dipped only {depth:.1f} mm"
+        elif angle > cfg["angle_deg"]:
+            h.note = f"untinned: dipped {angle:.0f} degrees off vertical"
+        else:
+            h.dipped += seconds
+            h.note = "" if h.dipped >= cfg["seconds"] else f"untinned: only {h.dipped:.2f} s in the solder"
+        h.tinned = not h.burnt and h.dipped >= cfg["seconds"]
+        if h.tinned or h.burnt:
+            self._event("bath", h.tinned, h.wire, "" if h.tinned else f"wire {h.wire} {h.note}")
+
+    def shake(self) -> None:
+        """Vibrate the tray so the wires settle anew."""
+        self.arm.inner.delay(SHAKE_SECONDS)
+        self.tray.shake()
+        self._event("shake", True, None)
+
+    # Reporting ------------------------------------------------------------------------
+
+    @property
+    def wires_done(self) -> int:
+        return sum(1 for r in self.results.values() if r in ("crimped", "tinned"))
+
+    def summary(self) -> dict:
+        return {
+            "wires_total": self.wires_total,
+            "wires_done": self.wires_done,
+            "wires_left": len(self.tray),
+            "attempts": self.attempts,
+            "results": {str(k): v for k, v in sorted(self.results.items())},
+            "failures": [e.as_dict() for e in self.events if not e.ok],
+            "robot_time_s": round(float(self.arm.inner.clock), 3),
+        }
+
+
+class CellError(RuntimeError):
+    """A station or sensor the cell does not have."""
+
+
+@dataclass
+class CellCamera:
+    """The cell's camera: every grab renders the tray as it now is."""
+
+    cell: SimCell
+    grabs: int = field(default=0)
+
+    def grab(self) -> np.ndarray:
+        self.grabs += 1
+        return self.cell.grab()
+
+
+class CellArm(Robot):
+    """The cell's arm: a SimRobot whose motions and gripper the cell watches."""
+
+    def __init__(self, inner: SimRobot, cell: SimCell) -> None:
+        self.inner = inner
+        self.cell = cell
+        self.axes = inner.axes
+
+    def __getattr__(self, name):  # clock, log, trajectory, model, save_plot ...
+        return getattr(self.inner, name)
+
+    def move(self, t5) -> None:
+        self.inner.move(t5)
+        self.cell.moved()
+
+    def moves(self, t5) -> None:
+        self.inner.moves(t5)
+        self.cell.moved()
+
+    def jmove(self, joints) -> None:
+        self.inner.jmove(joints)
+        self.cell.moved()
+
+    def home(self) -> None:
+        self.inner.home()
+        self.cell.moved()
+
+    def here(self) -> np.ndarray:
+        return self.inner.here()
+
+    def joints(self) -> list[float]:
+        return self.inner.joints()
+
+    def open(self) -> None:
+        self.inner.open()
+        self.cell.opened()
+
+    def close(self) -> None:
+        self.inner.close()
+        self.cell.closed()
+
+    def speed(self, percent: float) -> None:
+        self.inner.speed(percent)
+
+    def delay(self, seconds: float) -> None:
+        self.inner.delay(seconds)
+        self.cell.waited(seconds)
+
+    def halt(self) -> None:
+        self.inner.halt()
+
+    def gripped(self) -> bool:
+        """The gripper's sensor: the fingers stopped on a wire."""
+        return self.cell.held is not None

@@ -1,0 +1,99 @@
+"""What `rcl run` tells about a run on the simulated cell: a summary line, the
+--report JSON and the --pictures PNGs (one per look, with its outcome)."""
+from __future__ import annotations
+
+import json
+import statistics
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Optional
+
+
+@dataclass
+class Look:
+    number: int  # the camera's grab count at this look
+    image: Any
+    result: Any
+    ms: float
+
+
+class RunWatcher:
+    """Watches a session's looks on a SimCell and reports when the run is over."""
+
+    def __init__(self, cell, session, keep_images: bool = True) -> None:
+        self.cell = cell
+        self.looks: list[Look] = []
+        self.keep_images = keep_images
+        session.on_look = self._look
+
+    def _look(self, image, result, ms: float) -> None:
+        keep = self.keep_images
+        self.looks.append(Look(self.cell.camera.grabs, image if keep else None, result if keep else None, ms))
+
+    def report(self) -> dict:
+        r = self.cell.summary()
+        r["sensing_ms"] = [round(k.ms, 3) for k in self.looks]
+        r["looks"] = len(self.looks)
+        return r
+
+    def summary_line(self, r: dict) -> Optional[str]:
+        if not self.looks and not r["attempts"]:
+            return None
+        counts: dict[str, int] = {}
+        for outcome in r["results"].values():
+            counts[outcome] = counts.get(outcome, 0) + 1
+        done = ", ".join(f"{n} {what}" for what, n in sorted(counts.items())) or "none done"
+        vision = (f"; vision {statistics.median(r['sensing_ms']):.1f} ms median over {len(self.looks)} looks"
+                  if self.looks else "")
+        return (f"cell: {r['wires_total']} wires: {done}, {r['wires_left']} left on the tray; "
+                f"{r['attempts']} picks tried, {len(r['failures'])} failures; "
+                f"robot time {r['robot_time_s']:.1f} s{vision}")
+
+    def finish(self, report_path: Optional[str], pictures: Optional[str]) -> int:
+        """Print the summary, write what was asked for; 1 if something could not be written."""
+        r = self.report()
+        line = self.summary_line(r)
+        if line:
+            print(line, flush=True)
+        status = 0
+        if report_path:
+            try:
+                Path(report_path).write_text(json.dumps(r, indent=2) + "\n")
+            except OSError as e:
+                print(f"rcl: error: --report: cannot write {report_path}: {e.strerror or e}", file=sys.stderr)
+                status = 1
+        if pictures:
+            try:
+                self.write_pictures(Path(pictures))
+            except OSError as e:
+                print(f"rcl: error: --pictures: cannot write into {pictures}: {e.strerror or e}", file=sys.stderr)
+                status = 1
+        return status
+
+    def write_pictures(self, folder: Path) -> None:
+        from PIL import ImageDraw
+
+        from .vision.overlay import draw
+
+        folder.mkdir(parents=True, exist_ok=True)
+        for i, look in enumerate(self.looks, start=1):
+            picture = draw(look.image, look.result)
+            pen = ImageDraw.Draw(picture)
+            lines = [f"look {i}: " + (f"{len(look.result.candidates)} free ends seen"
+                                      if look.result.candidates else "no free wire end seen")]
+            lines += [_outcome(e) for e in self.cell.events if e.look == look.number]
+            y = 4
+            for text in lines:
+                pen.text((5, y + 1), text, fill=(0, 0, 0))
+                pen.text((4, y), text, fill=(255, 255, 0))
+                y += 12
+            picture.save(folder / f"look-{i:03d}.png")
+
+
+def _outcome(e) -> str:
+    wire = f"wire {e.wire}" if e.wire is not None else ""
+    if e.ok:
+        return {"pick": f"{wire} taken", "press": f"{wire} crimped", "bath": f"{wire} tinned",
+                "release": f"{wire} done", "shake": "tray shaken"}.get(e.what, e.what)
+    return f"{e.what} failed: {e.why}"

@@ -1,0 +1,102 @@
+"""A work cell for a session: its parts made from a cell description, and its RCL module.
+
+    cell = open_cell()                      # the built-in simulated cell
+    cell = open_cell("mycell.toml", seed=3)
+    s = Session(cell=cell)                  # robot, camera, camera model and IMPORT 'cell'
+
+The module a program gets with ``IMPORT 'cell'`` is RCL made from the
+description: the frames Z^ (world -> base) and E^ (t5 -> tool), one frame per
+station (PRESS^, BATH^, ...: world -> wire), and the constants TRAY_X, TRAY_Y
+(the tray's centre), TRAY_Z (its surface), TRAY_SIZE and WARP_FILE ('' when
+the description names no warp file).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Optional, Sequence
+
+from .cell import CellConfig, SimCell, load_config
+
+
+@dataclass
+class Cell:
+    config: CellConfig
+    robot: Any  # rcl.robots.Robot
+    camera: Any  # grab() -> image, or None
+    sim: Optional[SimCell]  # the simulation behind robot and camera, when they are simulated
+
+    @property
+    def tray_z(self) -> float:
+        return float(self.config["tray"]["z"])
+
+    def module_source(self) -> str:
+        return cell_module(self.config)
+
+
+class CellSetupError(Exception):
+    """A part of the cell that cannot be had (a serial port, an image folder); the message says which."""
+
+
+def open_cell(path: str | Path | CellConfig | None = None, seed: int = 0,
+              wires: Optional[Sequence[int]] = None, realtime: bool = False) -> Cell:
+    """The cell a description (a file, a loaded CellConfig, or None: the built-in) stands for.
+    seed and wires (low, high) make the simulated tray; CellConfigError or CellSetupError say
+    what is wrong."""
+    config = path if isinstance(path, CellConfig) else load_config(path)
+    if config.simulated:
+        sim = SimCell(config, seed=seed, wires=wires)
+        sim.arm.inner.realtime = realtime
+        return Cell(config, sim.arm, sim.camera, sim)
+    from .camera import ImageError, ImageFiles
+    from .robots import RobotError
+    from .robots.serial_arm import SerialRobot
+
+    robot_cfg = config["robot"]
+    try:
+        camera = ImageFiles(config.path(config["camera"]["folder"]))
+    except ImageError as e:
+        raise CellSetupError(f"{config.source}: camera: {e}") from None
+    try:
+        robot = SerialRobot(robot_cfg["port"], _model(config), int(robot_cfg["baud"]) or None)
+    except RobotError as e:
+        raise CellSetupError(f"{config.source}: robot: {e}") from None
+    return Cell(config, robot, camera, None)
+
+
+def _model(config: CellConfig) -> str:
+    name = config["robot"]["model"]
+    return str(config.path(name)) if name.lower().endswith(".toml") else name
+
+
+def cell_module(config: CellConfig) -> str:
+    """The RCL text of IMPORT 'cell' for a description."""
+    tray = config["tray"]
+    warp = config.warp
+    lines = [f"{{ cell: the frames of {_comment(config.name)} ({_comment(config.source)}) }}",
+             "VAR Z^ : FRAME world -> base",
+             "VAR E^ : FRAME t5 -> tool"]
+    lines += [f"VAR {name}^ : FRAME world -> wire" for name in config.stations()]
+    lines += [f"CONST TRAY_X = {_real(tray['centre'][0])}",
+              f"CONST TRAY_Y = {_real(tray['centre'][1])}",
+              f"CONST TRAY_Z = {_real(tray['z'])}",
+              f"CONST TRAY_SIZE = {_real(tray['size_mm'])}",
+              f"CONST WARP_FILE = {_string(str(warp) if warp else '')}"]
+    for name in ("Z", "E", *config.stations()):
+        f = config["frames"][name]
+        x, y, z = (_real(v) for v in f["xyz"])
+        r, p, w = (_real(v) for v in f["rpy"])
+        lines.append(f"{name}^ := TRANS({x}, {y}, {z}) * RPY({r}, {p}, {w})")
+    return "\n".join(lines) + "\n"
+
+
+def _real(v: float) -> str:
+    return repr(float(v))
+
+
+def _string(text: str) -> str:
+    return "'" + text.replace("'", "''") + "'"
+
+
+def _comment(text: str) -> str:
+    return text.replace("}", ")").replace("{", "(")
