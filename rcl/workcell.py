@@ -44,13 +44,17 @@ def open_cell(path: str | Path | CellConfig | None = None, seed: int = 0,
     seed and wires (low, high) make the simulated tray; CellConfigError or CellSetupError say
     what is wrong."""
     config = path if isinstance(path, CellConfig) else load_config(path)
+    from .robots import RobotError
+
     if config.simulated:
-        sim = SimCell(config, seed=seed, wires=wires)
+        try:
+            sim = SimCell(config, seed=seed, wires=wires)
+        except RobotError as e:
+            raise CellSetupError(f"{config.source}: robot: {e}") from None
         sim.arm.inner.realtime = realtime
         return Cell(config, sim.arm, sim.camera, sim)
     from .camera import ImageError, ImageFiles
-    from .robots import RobotError
-    from .robots.serial_arm import SerialRobot
+    from .robots import SimRobot
 
     robot_cfg = config["robot"]
     try:
@@ -58,15 +62,15 @@ def open_cell(path: str | Path | CellConfig | None = None, seed: int = 0,
     except ImageError as e:
         raise CellSetupError(f"{config.source}: camera: {e}") from None
     try:
-        robot = SerialRobot(robot_cfg["port"], _model(config), int(robot_cfg["baud"]) or None)
+        if robot_cfg["kind"] == "sim":  # recorded images with a simulated arm: no tray to act on
+            robot = SimRobot(config.model(), realtime=realtime)
+        else:
+            from .robots.serial_arm import SerialRobot
+
+            robot = SerialRobot(robot_cfg["port"], config.model(), int(robot_cfg["baud"]) or None)
     except RobotError as e:
         raise CellSetupError(f"{config.source}: robot: {e}") from None
     return Cell(config, robot, camera, None)
-
-
-def _model(config: CellConfig) -> str:
-    name = config["robot"]["model"]
-    return str(config.path(name)) if name.lower().endswith(".toml") else name
 
 
 def cell_module(config: CellConfig) -> str:

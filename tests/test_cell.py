@@ -31,3 +31,227 @@ def test_a_look_resamples_a_tray_picture_through_the_optics():
     x, y = view.where(cols.mean(), rows.mean())
     assert abs(x - 76.25) < 0.3 and abs(y - 51.25) < 0.3
     assert image[0, 0] == 0.8 or abs(image[0, 0] - 0.8) < 1e-9
+
+
+# The cell's physics ------------------------------------------------------------------
+
+import io  # noqa: E402
+import json  # noqa: E402
+import math  # noqa: E402
+
+import pytest  # noqa: E402
+
+from conftest import ROOT, rcl  # noqa: E402
+from rcl import Session  # noqa: E402
+from rcl.cell import CellConfigError, SimCell, load_config  # noqa: E402
+from rcl.frame import Frame  # noqa: E402
+from rcl.vision.synth import Wire  # noqa: E402
+from rcl.workcell import open_cell  # noqa: E402
+
+EXACT_ARM = "[robot]\ninaccuracy_mm = 0.0\nrepeatability_mm = 0.0\n[gripper]\ndrop_rate = 0.0\n"
+
+
+def exact_cell(tmp_path, extra: str = "") -> SimCell:
+    """A cell whose arm goes exactly where it is sent, with one straight wire along world X:
+    tray (20..100, 60) mm, i.e. world x 306..386 at y = -4, lying alone on the tray."""
+    (tmp_path / "exact.toml").write_text(EXACT_ARM + extra)
+    sim = SimCell(load_config(tmp_path / "exact.toml"), seed=0)
+    for n in list(sim.tray.wires):
+        sim.tray.remove(n)
+    xs = np.arange(20.0, 100.01, 0.5)
+    sim.tray.put(1, np.stack([xs, np.full_like(xs, 60.0)], axis=1), Wire(np.zeros((2, 2)), 2.0, 0, (0.2,)))
+    return sim
+
+
+def send_tool(sim: SimCell, tool: Frame) -> None:
+    sim.arm.move((Frame(sim.Z).inv() * tool * Frame(sim.E).inv()).matrix)
+
+
+def grasp_at(x: float, y: float, turn: float = 0.0, z: float = 0.0) -> Frame:
+    """The tool pointing down at (x, y, z), its fingers closing along world Y turned by `turn` degrees."""
+    return Frame.trans(x, y, z) * Frame.rotz(turn) * Frame.rotx(180)
+
+
+@pytest.mark.parametrize("x, y, turn, z, taken, why", [
+    (336.0, -4.0, 0.0, 0.0, True, ""),
+    (336.0, -3.2, 0.0, 0.0, True, ""),           # 0.8 mm off the centre line: the fingers centre it
+    (336.0, -2.5, 0.0, 0.0, False, "closed on nothing"),  # 1.5 mm off
+    (336.0, -4.0, 12.0, 0.0, True, ""),          # 12 degrees off square
+    (336.0, -4.0, 25.0, 0.0, False, "off square"),
+    (336.0, -4.0, 0.0, 6.0, False, "above the tray"),
+])
+def test_the_gripper_takes_a_wire_only_close_and_square(tmp_path, x, y, turn, z, taken, why):
+    sim = exact_cell(tmp_path)
+    send_tool(sim, grasp_at(x, y, turn, z))
+    sim.arm.close()
+    assert sim.arm.gripped() is taken
+    assert sim.attempts == 1
+    failures = [e for e in sim.events if not e.ok]
+    assert (not failures) if taken else why in failures[0].why
+    assert (len(sim.tray) == 0) is taken
+
+
+def test_the_gripper_needs_the_wire_on_top_and_room_for_its_fingers(tmp_path):
+    sim = exact_cell(tmp_path)
+    ys = np.arange(30.0, 90.01, 0.5)
+    sim.tray.put(2, np.stack([np.full_like(ys, 50.0), ys], axis=1), Wire(np.zeros((2, 2)), 2.0, 0, (0.2,)))
+    send_tool(sim, grasp_at(286 + 51.5, -64 + 60.0))  # on wire 1, 1.5 mm beside where wire 2 crosses over it
+    sim.arm.close()
+    assert not sim.arm.gripped() and "lies under wire 2" in sim.events[-1].why
+    sim.arm.open()
+    send_tool(sim, grasp_at(286 + 53.0, -64 + 60.0, z=20.0))
+    send_tool(sim, grasp_at(286 + 53.0, -64 + 60.0))  # 3 mm beside wire 2: no room
+    sim.arm.close()
+    assert not sim.arm.gripped() and "no room for the fingers" in sim.events[-1].why
+
+
+def test_the_press_crimps_only_an_end_in_the_die(tmp_path):
+    for offset, ok, why in [(0.0, True, ""), (0.7, True, ""), (1.6, False, "off the die's axis")]:
+        sim = exact_cell(tmp_path)
+        end_x = 286 + 20.0
+        send_tool(sim, grasp_at(end_x + 15.0, -4.0))  # 15 mm from the wire's end (tray x = 20)
+        sim.arm.close()
+        assert sim.arm.gripped()
+        w = Frame.trans(end_x, -4.0, 0.0) * Frame.roty(90) * Frame.rotz(180)  # W^: X up, Z along the wire
+        w = Frame.trans(0, 0, 0) * Frame(np.array([[0, 0, 1, end_x], [0, -1, 0, -4.0], [1, 0, 0, 0.0],
+                                                   [0, 0, 0, 1.0]]))
+        wg = w.inv() * grasp_at(end_x + 15.0, -4.0)
+        press = sim.config.frame("PRESS") * Frame.trans(0.0, offset, 0.0)
+        send_tool(sim, press * wg)
+        assert sim.crimp() is ok
+        assert ok or why in sim.events[-1].why
+        sim.arm.open()
+        assert sim.results[1] == ("crimped" if ok else "rejected")
+
+
+def test_the_arm_strays_smoothly_by_one_to_three_mm():
+    sim = SimCell(load_config(), seed=0)
+    xs, ys = np.meshgrid(np.linspace(286, 414, 30), np.linspace(-64, 64, 30))
+    errs = np.array([sim.error([x, y, 0.0]) for x, y in zip(xs.ravel(), ys.ravel())])
+    size = np.linalg.norm(errs, axis=1)
+    assert 0.9 <= size.min() and size.max() <= 3.1
+    step = np.linalg.norm(np.diff(errs.reshape(30, 30, 3), axis=1), axis=2).max()
+    assert step < 0.15  # 4.4 mm apart: smooth
+
+
+def test_a_wire_let_go_over_the_tray_lies_there_again_and_a_slipping_wire_falls_back(tmp_path):
+    sim = exact_cell(tmp_path)
+    send_tool(sim, grasp_at(336.0, -4.0))
+    sim.arm.close()
+    send_tool(sim, grasp_at(336.0, -4.0, z=30.0))
+    sim.arm.open()
+    assert len(sim.tray) == 1 and sim.results == {}
+    (tmp_path / "slip.toml").write_text(EXACT_ARM.replace("drop_rate = 0.0", "drop_rate = 1.0"))
+    slippy = SimCell(load_config(tmp_path / "slip.toml"), seed=0)
+    n = len(slippy.tray)
+    slippy.tray.wires = {1: sim.tray.wires[1]}
+    slippy.tray.wires[1].layer = 0
+    slippy.tray._changed(1)
+    send_tool(slippy, grasp_at(336.0, -4.0))
+    slippy.arm.close()
+    assert slippy.arm.gripped()
+    send_tool(slippy, grasp_at(336.0, -4.0, z=30.0))
+    assert not slippy.arm.gripped() and len(slippy.tray) == 1 and n >= 1
+    assert "slipped out of the fingers and fell back on the tray" in slippy.events[-1].why
+
+
+def test_every_look_is_a_fresh_picture_of_the_tray_as_it_now_is(tmp_path):
+    sim = exact_cell(tmp_path)
+    first = sim.camera.grab()
+    u, v = sim.lens.project(336.0, -4.0, 1.0)
+    assert first[int(round(float(v))), int(round(float(u)))] < 0.3  # the wire, dark
+    send_tool(sim, grasp_at(336.0, -4.0))
+    sim.arm.close()
+    send_tool(sim, grasp_at(336.0, -4.0, z=200.0))
+    second = sim.camera.grab()
+    assert second[int(round(float(v))), int(round(float(u)))] > 0.45  # gone: the tray shows
+    assert not np.array_equal(first, sim.camera.grab())  # fresh noise every look
+    assert sim.camera.grabs == 3
+
+
+# The cell file ----------------------------------------------------------------------------
+
+@pytest.mark.parametrize("text, message", [
+    ("[robot]\nkind = 'kuka'\n", "robot.kind"),
+    ("[gripper]\ntolerance = 1.0\n", "unknown key 'gripper.tolerance'"),
+    ("[tray]\nwires = [3]\n", "'tray.wires' must be a list of 2 numbers"),
+    ("[camera]\nwidth = 'big'\n", "'camera.width' must be a number"),
+    ("[frames.PRESS]\nxyz = [1, 2]\n", "'frames.PRESS.xyz' must be a list of 3 numbers"),
+    ("[frames.PRESS]\nrot = [1, 2, 3]\n", "unknown key 'frames.PRESS.rot'"),
+    ("[robot]\nkind = 'ssc32'\n", "robot.port"),
+    ("[robot]\nkind = 'ssc32'\nport = 'x'\n", "simulated camera"),
+    ("name = \n", "not a valid TOML file"),
+])
+def test_bad_cell_files_are_refused_with_the_key_named(tmp_path, text, message):
+    path = tmp_path / "cell.toml"
+    path.write_text(text)
+    with pytest.raises(CellConfigError, match=message.replace("(", r"\(").replace("[", r"\[")):
+        load_config(path)
+    r = rcl("run", str(ROOT / "examples" / "crimp.rcl"), "--cell", str(path))
+    assert r.returncode == 2 and "rcl: error: --cell:" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_a_missing_cell_file_and_a_cell_camera_with_no_images(tmp_path):
+    r = rcl("run", str(ROOT / "examples" / "crimp.rcl"), "--cell", str(tmp_path / "nope.toml"))
+    assert r.returncode == 2 and "no such file" in r.stderr
+    (tmp_path / "empty").mkdir()
+    (tmp_path / "files.toml").write_text("[camera]\nkind = 'files'\nfolder = 'empty'\n")
+    r = rcl("run", str(ROOT / "examples" / "crimp.rcl"), "--cell", str(tmp_path / "files.toml"))
+    assert r.returncode == 2 and "holds no image files" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_a_camera_that_runs_out_of_images_stops_the_task_with_a_clear_error(tmp_path):
+    from PIL import Image
+
+    from rcl.camera import Calibration
+
+    (tmp_path / "shots").mkdir()
+    tray = SimCell(load_config(), seed=1)
+    Image.fromarray((tray.camera.grab() * 255).astype(np.uint8)).save(tmp_path / "shots" / "a.png")
+    cal = Calibration()
+    for x in np.linspace(290, 410, 6):
+        for y in np.linspace(-60, 60, 6):
+            cal.add_point(*(float(t) for t in tray.lens.project(x, y, 0.0)), x, y)
+    cal.fit()
+    cal.save(tmp_path / "warp.json")
+    (tmp_path / "files.toml").write_text("warp = 'warp.json'\n[camera]\nkind = 'files'\nfolder = 'shots'\n")
+    (tmp_path / "look.rcl").write_text("IMPORT 'cell'\nLOADWARP(WARP_FILE)\nVAR W^, WG^ : FRAME\n"
+                                       "WHILE GREYWIRE(W^, WG^) DO\n  WRITELN('seen at ', W^.P)\nEND\n")
+    r = rcl("run", str(tmp_path / "look.rcl"), "--cell", str(tmp_path / "files.toml"))
+    assert r.returncode == 1, r.stderr
+    assert "look.rcl:4:7: error: GREYWIRE: no more images" in r.stderr and r.stdout.count("seen at") == 1
+
+
+def test_a_missing_warp_file_is_calibrated_and_saved_then_loaded(tmp_path):
+    (tmp_path / "cell.toml").write_text("warp = 'warp.json'\n")
+    for expect in ("calibrating instead", "camera model: " + str(tmp_path / "warp.json")):
+        out = io.StringIO()
+        s = Session(out=out, cell=open_cell(tmp_path / "cell.toml", seed=2, wires=(0, 0)))
+        s.run("IMPORT 'wires'\nGETWARP\n")
+        assert expect in out.getvalue()
+        assert (tmp_path / "warp.json").exists()
+
+
+def test_stations_and_sensors_need_a_cell_that_has_them():
+    s = Session(out=io.StringIO())
+    for call in ("CRIMP()", "TRAYEMPTY()"):
+        with pytest.raises(Exception, match="has no"):
+            s.run(f"b := {call}")
+    from rcl.errors import RclStaticError
+    with pytest.raises(RclStaticError, match="no work cell"):
+        s.run("IMPORT 'cell'")
+
+
+def test_the_main_job_from_the_command_line_reports_and_draws_every_look(tmp_path):
+    r = rcl("run", str(ROOT / "examples" / "crimp.rcl"), "--seed", "4", "--report", str(tmp_path / "r.json"),
+            "--pictures", str(tmp_path / "pics"), cwd=tmp_path, timeout=120)
+    assert r.returncode == 0, r.stderr
+    report = json.loads((tmp_path / "r.json").read_text())
+    assert set(report) >= {"wires_total", "wires_done", "attempts", "failures", "sensing_ms", "robot_time_s"}
+    assert 10 <= report["wires_total"] <= 15 and report["wires_done"] >= report["wires_total"] - 1
+    assert report["attempts"] >= report["wires_done"] and report["robot_time_s"] > 0
+    assert all(isinstance(ms, float) and ms > 0 for ms in report["sensing_ms"])
+    assert len(list((tmp_path / "pics").glob("look-*.png"))) == len(report["sensing_ms"]) == report["looks"]
+    assert r.stdout.count(", crimped\n") == report["wires_done"]
+    assert f"cell: {report['wires_total']} wires" in r.stdout
+    assert not math.isnan(report["robot_time_s"])

@@ -76,12 +76,12 @@ def test_commands(tmp_path):
 def test_completion_of_keywords_builtins_and_variables():
     out = io.StringIO()
     repl = Repl(lambda: Session(out=out, robot=RecordingArm()), out=out)
-    repl.handle("Counter := 1\rGrip^ := IDENT()")
+    repl.handle("Counter := 1\rGrasp^ := IDENT()")
     repl.handle("Counter := 1")
-    repl.handle("Grip^ := IDENT()")
+    repl.handle("Grasp^ := IDENT()")
     assert repl.completions("wri") == ["WRITE", "WRITELN"]
     assert "Counter" in repl.completions("co") and "COS" in repl.completions("co")
-    assert repl.completions("gri") == ["Grip^"]
+    assert repl.completions("gras") == ["Grasp^"]
     assert "WHILE" in repl.completions("wh")
 
 

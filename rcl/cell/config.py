@@ -62,6 +62,11 @@ class CellConfig:
         """The frames other than Z and E, in file order."""
         return [n for n in self.data["frames"] if n not in FRAME_NAMES_REQUIRED]
 
+    def model(self) -> str:
+        """The arm model: a built-in name, or a model file's path."""
+        name = self.data["robot"]["model"]
+        return str(self.path(name)) if name.lower().endswith(".toml") else name
+
     @property
     def simulated(self) -> bool:
         return self.data["robot"]["kind"] == "sim" and self.data["camera"]["kind"] == "sim"
@@ -164,9 +169,9 @@ def _check(data: dict, source: str) -> None:
         fail(f"camera.kind must be \"sim\" or \"files\", not {camera['kind']!r}")
     if camera["kind"] == "files" and not camera["folder"]:
         fail("camera.folder: a files camera needs the folder its images are in")
-    if (robot["kind"] == "sim") != (camera["kind"] == "sim"):
-        fail("a simulated camera needs the simulated arm and tray, and a real camera a real arm: "
-             "make robot.kind and camera.kind both \"sim\" or neither")
+    if camera["kind"] == "sim" and robot["kind"] != "sim":
+        fail("the simulated camera sees the simulated tray, which only the simulated arm can reach: "
+             "with robot.kind = \"ssc32\" use camera.kind = \"files\"")
     positive = [("camera.width", camera["width"]), ("camera.height_mm", camera["height_mm"]),
                 ("camera.fov_mm", camera["fov_mm"]), ("tray.size_mm", tray["size_mm"]),
                 ("tray.layers", tray["layers"])]

@@ -140,7 +140,7 @@ class SimCell:
         self.g, self.press_cfg, self.bath_cfg = config["gripper"], config["press"], config["bath"]
         self.press = self._station("PRESS") if "PRESS" in config["frames"] else None
         self.bath = self._station("BATH") if "BATH" in config["frames"] else None
-        self.arm = CellArm(SimRobot(robot["model"]), self)
+        self.arm = CellArm(SimRobot(config.model()), self)
         self.camera = CellCamera(self)
         self.held: Optional[Held] = None
         self.attempts = 0
