@@ -55,16 +55,18 @@ SHAKE_SECONDS = 2.0
 
 
 class Inaccuracy:
-    """The arm's smooth position error: a fixed offset of `size` mm in a seeded direction plus a
-    slow ripple of half that over the workspace (wavelengths 250-400 mm)."""
+    """The arm's smooth position error: a fixed offset of 0.9 `size` mm in a seeded direction
+    plus a ripple of 0.3 `size` mm along each axis (0.1 `size` vertically) with wavelengths of
+    100-160 mm over the workspace: for size 2, 1-2.7 mm in all, varying by up to ~1.5 mm over
+    the tray in a way no linear camera model can follow."""
 
     def __init__(self, size: float, seed: int) -> None:
         rng = np.random.default_rng([seed, 7])
         heading = rng.uniform(0, 2 * math.pi)
-        self.offset = size * np.array([math.cos(heading), math.sin(heading), 0.0])
-        self.ripple = np.array([0.5, 0.5, 0.15]) * size
+        self.offset = 0.9 * size * np.array([math.cos(heading), math.sin(heading), 0.0])
+        self.ripple = np.array([0.3, 0.3, 0.1]) * size
         dirs = rng.normal(size=(3, 3))
-        waves = rng.uniform(250.0, 400.0, 3)
+        waves = rng.uniform(100.0, 160.0, 3)
         self.k = 2 * math.pi * dirs / np.linalg.norm(dirs, axis=1, keepdims=True) / waves[:, None]
         self.phase = rng.uniform(0, 2 * math.pi, 3)
 
@@ -95,10 +97,14 @@ class Event:
     look: int  # the number of the image the task looked at last (1-based; 0: none yet)
     why: str = ""
     time_s: float = 0.0
+    off_mm: Optional[float] = None  # a pick: how far from the wire's centre line the fingers closed
 
     def as_dict(self) -> dict:
-        return {"what": self.what, "ok": self.ok, "wire": self.wire, "look": self.look, "why": self.why,
-                "time_s": round(self.time_s, 3)}
+        d = {"what": self.what, "ok": self.ok, "wire": self.wire, "look": self.look, "why": self.why,
+             "time_s": round(self.time_s, 3)}
+        if self.off_mm is not None:
+            d["off_mm"] = round(self.off_mm, 3)
+        return d
 
 
 @dataclass
@@ -201,16 +207,14 @@ class SimCell:
             return  # closing in the air: not a pick
         self.attempts += 1
         wire, why = self._grasp(t, p, height)
+        near = self.tray.nearest(p, 6.0) if wire is None else []
+        off = self._off if wire is not None else (near[0].distance if near else None)
         if wire is None:
-            self._event("pick", False, self._nearest(p), why)
+            self._event("pick", False, near[0].wire if near else None, why).off_mm = off
             if height <= self.g["height_mm"]:
                 self.tray.nudge(p, 4.0, 2.0, 6.0)
             return
-        self._event("pick", True, wire)
-
-    def _nearest(self, p) -> Optional[int]:
-        found = self.tray.nearest(p, 6.0)
-        return found[0].wire if found else None
+        self._event("pick", True, wire).off_mm = off
 
     def _grasp(self, t: np.ndarray, p: np.ndarray, height: float) -> tuple[Optional[int], str]:
         g = self.g
@@ -240,6 +244,7 @@ class SimCell:
             if d < g["room_mm"] + other.width / 2:
                 return None, f"no room for the fingers: wire {n} lies {d:.1f} mm from wire {touch.wire} there"
         # Taken: the fingers centre the wire between them (along the closing direction).
+        self._off = touch.distance
         self.tray.remove(touch.wire)
         shift = float((p - touch.point) @ closing) * closing
         pts = resample(wire.centre, 0.25) + shift
