@@ -21,3 +21,11 @@ def test_the_installed_package_finds_its_grammar_and_stdlib():
     from rcl.robots import builtin_models
 
     assert builtin_models() == ["al5d", "puma560", "smartarms"]
+
+
+def test_the_built_in_cell_description_is_package_data():
+    listed = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["package-data"]
+    assert "*.toml" in listed["rcl.cell"]
+    from rcl.cell.config import DEFAULT
+
+    assert DEFAULT.is_file() and DEFAULT.parent.name == "cell"
