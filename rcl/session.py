@@ -126,6 +126,7 @@ class Session:
 
     def _find_wire(self, image, method: str):
         """The default wire finder: the best candidate of the paper's system by that name."""
+        from .camera import ImageError
         from .errors import BuiltinError
         from .vision import VisionError, find_wires
 
@@ -133,7 +134,7 @@ class Session:
             began = time.perf_counter()
             result = find_wires(image, method, self.px_per_mm)
             ms = (time.perf_counter() - began) * 1000.0
-        except VisionError as e:
+        except (VisionError, ImageError) as e:
             raise BuiltinError(str(e)) from None
         if self.on_look is not None:
             self.on_look(image, result, ms)

@@ -251,3 +251,22 @@ def test_the_main_job_from_the_command_line_reports_and_draws_every_look(tmp_pat
     assert r.stdout.count(", crimped\n") == report["wires_done"]
     assert f"cell: {report['wires_total']} wires" in r.stdout
     assert not math.isnan(report["robot_time_s"])
+
+
+@pytest.mark.parametrize("picture, message", [
+    (None, "the camera returned no image"),
+    ("junk", "the camera returned str instead of an image of numbers"),
+    (np.zeros((4, 4, 4, 4)), "an image is rows x columns"),
+])
+def test_a_camera_that_returns_nothing_is_a_clear_runtime_error_with_the_arm_halted(picture, message):
+    from rcl.errors import RclRuntimeError
+
+    class Camera:
+        def grab(self):
+            return picture
+    s = Session(camera=Camera(), out=io.StringIO())
+    for call, col in (("GREYWIRE(W^, WG^)", 6), ("FINDMARK(u, v)", 6)):
+        with pytest.raises(RclRuntimeError) as e:
+            s.run(f"VAR W^, WG^ : FRAME\nb := {call}")
+        assert e.value.render().startswith(f"<string>:2:{col}: error: {call.split('(')[0]}: {message}")
+        assert s.robot.halted

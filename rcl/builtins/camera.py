@@ -5,6 +5,8 @@ and its camera (ctx.camera, anything with grab() -> image array).
 """
 from __future__ import annotations
 
+import numpy as np
+
 from ..camera import CameraModelError, ImageError, find_mark
 from ..errors import BuiltinError
 from ..frame import Vector, vec
@@ -28,7 +30,14 @@ def grab(ctx, name: str):
     """A fresh image from the session's camera."""
     if ctx.camera is None:
         raise BuiltinError(f"{name}: this session has no camera to look with")
-    return _call(name, ctx.camera.grab)
+    image = _call(name, ctx.camera.grab)
+    if image is None:
+        raise BuiltinError(f"{name}: the camera returned no image")
+    if not isinstance(image, np.ndarray) or image.dtype.kind not in "biuf":
+        raise BuiltinError(f"{name}: the camera returned {type(image).__name__} "
+                           f"{'of ' + str(image.dtype) + ' ' if isinstance(image, np.ndarray) else ''}"
+                           f"instead of an image of numbers")
+    return image
 
 
 def calpoint(ctx, u: float, v: float, x: float, y: float) -> None:

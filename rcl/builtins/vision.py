@@ -57,7 +57,10 @@ def _find(ctx, method: str, w: Var[Frame], wg: Var[Frame], name: str) -> bool:
     if ctx.wire_finder is None:
         raise BuiltinError(f"{name}: this session has no {method} wire finder")
     image = grab(ctx, name)
-    sighting = ctx.wire_finder(image, method)
+    try:
+        sighting = ctx.wire_finder(image, method)
+    except BuiltinError as e:
+        raise BuiltinError(f"{name}: {e}") from None
     if sighting is None:
         return False
     try:
