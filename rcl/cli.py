@@ -183,6 +183,9 @@ def _with_setup(args, body) -> int:
 
 
 def _run(args) -> int:
+    if hasattr(sys.stdout, "reconfigure"):
+        sys.stdout.reconfigure(line_buffering=True)  # a long task's lines show as they come, piped too
+
     def body(cell, new_session) -> int:
         from .runreport import RunWatcher
 
