@@ -29,6 +29,7 @@ leading the arm to it.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Optional, Sequence
@@ -80,7 +81,6 @@ class Held:
     wire: int
     body: Wire
     shape: np.ndarray  # (4, N) the centre line in the tool frame, homogeneous
-    look: int
     crimped: bool = False
     tinned: bool = False
     burnt: bool = False
@@ -130,12 +130,9 @@ class SimCell:
         self.tray = WireTray(size, centre - size / 2, np.random.default_rng([seed, 2]),
                              int(self.rng.integers(low, high + 1)), int(tray["layers"]))
         self.wires_total = len(self.tray)
-        self.lens = PinholeCamera.over_tray(centre_xy=tuple(centre), height_mm=cam["height_mm"],
-                                            fov_mm=cam["fov_mm"], width=int(cam["width"]),
-                                            tilt_deg=cam["tilt_deg"], k1=cam["k1"], k2=cam["k2"])
-        self.lens = PinholeCamera(self.lens.width, self.lens.height, self.lens.focal_px,
-                                  self.lens.pose.copy(), self.lens.k1, self.lens.k2)
-        self.lens.pose[2, 3] += self.tray_z
+        lens = PinholeCamera.over_tray(centre_xy=tuple(centre), height_mm=cam["height_mm"], fov_mm=cam["fov_mm"],
+                                       width=int(cam["width"]), tilt_deg=cam["tilt_deg"], k1=cam["k1"], k2=cam["k2"])
+        self.lens = dataclasses.replace(lens, pose=(Frame.trans(0.0, 0.0, self.tray_z) * Frame(lens.pose)).matrix)
         self._view: Optional[TrayView] = None
         self.noise = float(cam["noise"])
         self.Z = config.frame("Z").matrix
@@ -250,7 +247,7 @@ class SimCell:
         pts = resample(wire.centre, 0.25) + shift
         world = np.vstack([pts[:, 0] + self.tray.origin[0], pts[:, 1] + self.tray.origin[1],
                            np.full(len(pts), self.tray_z + wire.width / 2), np.ones(len(pts))])
-        self.held = Held(touch.wire, wire, np.linalg.inv(t) @ world, self.camera.grabs)
+        self.held = Held(touch.wire, wire, np.linalg.inv(t) @ world)
         return touch.wire, ""
 
     def held_points(self, h: Optional[Held] = None) -> np.ndarray:
