@@ -203,52 +203,54 @@ class SimCell:
         if not self.tray.inside(p) or height > PICK_BELOW_MM:
             return  # closing in the air: not a pick
         self.attempts += 1
-        wire, why = self._grasp(t, p, height)
-        near = self.tray.nearest(p, 6.0) if wire is None else []
-        off = self._off if wire is not None else (near[0].distance if near else None)
-        if wire is None:
-            self._event("pick", False, near[0].wire if near else None, why).off_mm = off
+        touches = self.tray.nearest(p)  # every wire, nearest first
+        nearest = touches[0] if touches and touches[0].distance <= 6.0 else None
+        why = self._grasp(t, p, height, touches)
+        if why:
+            event = self._event("pick", False, nearest.wire if nearest else None, why)
             if height <= self.g["height_mm"]:
                 self.tray.nudge(p, 4.0, 2.0, 6.0)
-            return
-        self._event("pick", True, wire).off_mm = off
+            event.off_mm = nearest.distance if nearest else None
+        else:
+            taken = self.held.wire
+            self._event("pick", True, taken).off_mm = next(k.distance for k in touches if k.wire == taken)
 
-    def _grasp(self, t: np.ndarray, p: np.ndarray, height: float) -> tuple[Optional[int], str]:
+    def _grasp(self, t: np.ndarray, p: np.ndarray, height: float, touches: list) -> str:
+        """Close the fingers at the real tool pose t (p: its tray point): "" and self.held set
+        when a wire is taken, else why not."""
         g = self.g
         if t[2, 2] > -math.cos(math.radians(30)):
-            return None, "the fingers did not point down into the tray"
+            return "the fingers did not point down into the tray"
         if height > g["height_mm"]:
-            return None, f"the fingers closed {height:.1f} mm above the tray, over the wires"
+            return f"the fingers closed {height:.1f} mm above the tray, over the wires"
         if height < -1.0:
-            return None, f"the fingers were driven {-height:.1f} mm into the tray"
-        near = self.tray.nearest(p, g["tolerance_mm"])
+            return f"the fingers were driven {-height:.1f} mm into the tray"
+        near = [k for k in touches if k.distance <= g["tolerance_mm"]]
         if not near:
-            found = self.tray.nearest(p)
-            far = f"{found[0].distance:.1f} mm" if found else "nothing"
-            return None, f"the fingers closed on nothing: the nearest centre line was {far} away"
+            far = f"{touches[0].distance:.1f} mm" if touches else "nothing"
+            return f"the fingers closed on nothing: the nearest centre line was {far} away"
         touch = max(near, key=lambda k: self.tray.wires[k.wire].layer)
         wire = self.tray.wires[touch.wire]
         closing = t[:2, 1] / max(float(np.linalg.norm(t[:2, 1])), 1e-9)
-        off_square = math.degrees(math.asin(min(1.0, abs(float(closing @ touch.tangent)))))
+        off_square = 90.0 - _angle_deg(closing, touch.tangent, sign=False)
         if off_square > g["angle_deg"]:
-            return None, f"the fingers met wire {touch.wire} {off_square:.0f} degrees off square"
+            return f"the fingers met wire {touch.wire} {off_square:.0f} degrees off square"
         for n, other in self.tray.wires.items():
             if n == touch.wire:
                 continue
             d = self.tray.touch(n, touch.point).distance
             if other.layer > wire.layer and d < (wire.width + other.width) / 2 + 0.5:
-                return None, f"wire {touch.wire} lies under wire {n} there"
+                return f"wire {touch.wire} lies under wire {n} there"
             if d < g["room_mm"] + other.width / 2:
-                return None, f"no room for the fingers: wire {n} lies {d:.1f} mm from wire {touch.wire} there"
+                return f"no room for the fingers: wire {n} lies {d:.1f} mm from wire {touch.wire} there"
         # Taken: the fingers centre the wire between them (along the closing direction).
-        self._off = touch.distance
         self.tray.remove(touch.wire)
         shift = float((p - touch.point) @ closing) * closing
         pts = resample(wire.centre, 0.25) + shift
         world = np.vstack([pts[:, 0] + self.tray.origin[0], pts[:, 1] + self.tray.origin[1],
                            np.full(len(pts), self.tray_z + wire.width / 2), np.ones(len(pts))])
         self.held = Held(touch.wire, wire, np.linalg.inv(t) @ world)
-        return touch.wire, ""
+        return ""
 
     def held_points(self, h: Optional[Held] = None) -> np.ndarray:
         """The held wire's centre line in the world, (N, 3)."""
@@ -319,7 +321,7 @@ class SimCell:
         rel = end - mouth
         depth = float(rel @ a)
         lateral = float(np.linalg.norm(rel - depth * a))
-        angle = math.degrees(math.acos(max(-1.0, min(1.0, float(direction @ a)))))
+        angle = _angle_deg(direction, a)
         low, high = cfg["depth_mm"]
         why = ""
         if lateral > cfg["tolerance_mm"]:
@@ -348,7 +350,7 @@ class SimCell:
         if depth <= 0:
             return
         low, high = cfg["depth_mm"]
-        angle = math.degrees(math.acos(max(-1.0, min(1.0, -float(direction[2])))))
+        angle = _angle_deg(direction, np.array([0.0, 0.0, -1.0]))
         if depth > high:
             h.burnt = True
             h.note = f"burnt: dipped {depth:.1f} mm, deeper than the {high:g} mm stripped"
@@ -385,6 +387,13 @@ class SimCell:
             "failures": [e.as_dict() for e in self.events if not e.ok],
             "robot_time_s": round(float(self.arm.inner.clock), 3),
         }
+
+
+def _angle_deg(u: np.ndarray, v: np.ndarray, sign: bool = True) -> float:
+    """The angle between unit vectors u and v, degrees (sign=False: between their lines, 0-90)."""
+    c = float(u @ v)
+    c = c if sign else abs(c)
+    return math.degrees(math.acos(max(-1.0, min(1.0, c))))
 
 
 class CellError(RuntimeError):
