@@ -7,7 +7,8 @@ from __future__ import annotations
 
 from .sighting import Sighting
 
-METHODS = ("binary", "grey")
+METHODS = ("ridge", "grey", "binary")
+DEFAULT_METHOD = "ridge"
 
 
 class VisionError(ValueError):
@@ -21,18 +22,22 @@ def load(method: str):
 
         deletion_tables()
         return find_wires_binary
+    if method == "ridge":
+        from .ridge import find_wires_ridge
+
+        return find_wires_ridge
     if method == "grey":
         from .grey import find_wires_grey
 
         return find_wires_grey
-    raise VisionError(f"unknown method {method!r} (binary or grey)")
+    raise VisionError(f"unknown method {method!r} (one of {', '.join(METHODS)})")
 
 
-def find_wires(image, method: str = "grey", px_per_mm: float = 4.0):
+def find_wires(image, method: str = DEFAULT_METHOD, px_per_mm: float = 4.0):
     """Candidates best-first (with .candidates and .timings in ms) for one image."""
     if not px_per_mm > 0:
         raise VisionError(f"the scale must be a positive number of px per mm, not {px_per_mm}")
     return load(method)(image, px_per_mm)
 
 
-__all__ = ["METHODS", "Sighting", "VisionError", "find_wires", "load"]
+__all__ = ["DEFAULT_METHOD", "METHODS", "Sighting", "VisionError", "find_wires", "load"]

@@ -19,6 +19,7 @@ KINDS = ("sparse", "crossing", "low_contrast", "bright_on_dark", "stripped", "co
 GRASP_MM = 15.0  # the grasp point lies this far from the end, along the wire
 FINGER_CLEARANCE_MM = 4.0  # room the fingers need on either side of the wire at the grasp point
 END_MARGIN_MM = 3.0  # an end this close to the image border counts as cut by it
+TOUCH_MM = 0.5  # wires closer than this, edge to edge, touch: taking one drags the other
 
 
 @dataclass
@@ -104,7 +105,7 @@ def make_tray(kind: str = "sparse", seed: int = 0, size: int = 512, px_per_mm: f
         ws = _keep_apart(ws, rng, extent)
     image = render(ws, size, px_per_mm, kind, rng)
     tray = Tray(image, px_per_mm, ws, kind=kind)
-    tray.ends = _ground_truth(ws, extent)
+    tray.ends = ground_truth(ws, extent)
     return tray
 
 
@@ -239,7 +240,10 @@ def resample(pts: np.ndarray, step: float) -> np.ndarray:
     return np.stack([np.interp(s, cum, pts[:, 0]), np.interp(s, cum, pts[:, 1])], axis=1)
 
 
-def _ground_truth(ws: list[Wire], extent: float) -> list[End]:
+def ground_truth(ws: list[Wire], extent) -> list[End]:
+    """Every wire end, and whether a gripper could take it; extent is the image's size in mm
+    (a number for a square image, or (width, height))."""
+    extent = np.broadcast_to(np.asarray(extent, float), (2,))
     ends = []
     for i, w in enumerate(ws):
         for e in (0, 1):
@@ -251,23 +255,52 @@ def _ground_truth(ws: list[Wire], extent: float) -> list[End]:
     return ends
 
 
-def _graspable(ws: list[Wire], i: int, end: int, extent: float) -> tuple[bool, str]:
+def material_distance(wire: Wire, points: np.ndarray) -> np.ndarray:
+    """Each point's distance (mm) to the wire itself: its centre line widened by half its width,
+    cut off at the ends of the centre line (0 inside the wire)."""
+    from scipy.spatial import cKDTree
+
+    dense = resample(wire.centre, 0.25)
+    keep = np.concatenate([[True], np.linalg.norm(np.diff(dense, axis=0), axis=1) > 1e-6])
+    dense = dense[keep]  # resampling may repeat the last point
+    d, i = cKDTree(dense).query(points)
+    out = np.maximum(d - wire.width / 2, 0.0)
+    for idx, nxt in ((0, 1), (len(dense) - 1, len(dense) - 2)):
+        at = i == idx
+        if not at.any():
+            continue
+        axis = dense[idx] - dense[nxt]
+        axis = axis / max(float(np.linalg.norm(axis)), 1e-9)  # out of the wire
+        rel = points[at] - dense[idx]
+        axial = rel @ axis
+        lateral = np.abs(rel @ np.array([-axis[1], axis[0]]))
+        beyond = np.hypot(np.maximum(axial, 0.0), np.maximum(lateral - wire.width / 2, 0.0))
+        out[at] = np.where(axial > 0, beyond, out[at])
+    return out
+
+
+def _graspable(ws: list[Wire], i: int, end: int, extent: np.ndarray) -> tuple[bool, str]:
     w = ws[i]
-    span = [w.point_at(end, s) for s in np.arange(0.0, GRASP_MM + 5.0, 0.5)]
-    for p in span:
-        if np.any(p < END_MARGIN_MM) or np.any(p > extent - END_MARGIN_MM):
-            return False, "off the image or cut by its border"
+    span = np.array([w.point_at(end, s) for s in np.arange(0.0, GRASP_MM + 5.0, 0.5)])
+    if np.any(span < END_MARGIN_MM) or np.any(span > extent - END_MARGIN_MM):
+        return False, "off the image or cut by its border"
     grasp = w.point_at(end, GRASP_MM)
-    tip_zone = np.array(span)
+    own = resample(w.centre if end == 0 else w.centre[::-1], 0.5)
+    skip = int((GRASP_MM + 5.0 + 2 * w.width + FINGER_CLEARANCE_MM) / 0.5)
+    if len(own) > skip + 1:  # the same wire, further on, coming back (a loop)
+        rest = Wire(own[skip:], w.width, w.layer, w.level)
+        if material_distance(rest, span).min() < w.width / 2:
+            return False, "it crosses itself near its end"
+        if material_distance(rest, grasp[None, :])[0] < FINGER_CLEARANCE_MM:
+            return False, "no room for the fingers at the grasp point"
     for j, other in enumerate(ws):
         if j == i:
             continue
-        dense = resample(other.centre, 0.5)
-        near = np.min(np.linalg.norm(dense[:, None, :] - tip_zone[None, :, :], axis=2))
-        if near < (w.width + other.width) / 2 and other.layer > w.layer:
+        gap = material_distance(other, span).min() - w.width / 2  # edge to edge
+        if gap < 0 and other.layer > w.layer:
             return False, "another wire lies on top of it"
-        if np.min(np.linalg.norm(dense - grasp, axis=1)) < FINGER_CLEARANCE_MM + other.width / 2:
+        if material_distance(other, grasp[None, :])[0] < FINGER_CLEARANCE_MM:
             return False, "no room for the fingers at the grasp point"
-        if near < (w.width + other.width) / 2:
-            return False, "it crosses another wire near its end"
+        if gap < TOUCH_MM:
+            return False, "it crosses or touches another wire near its end"
     return True, ""

@@ -1,0 +1,574 @@
+"""The default wire finder: wire centre lines as ridges; every end classified; unsure means no.
+
+The paper's systems threshold grey levels or follow grey-level edges, so they
+need wires of one polarity on a plain board. This finder asks of every pixel
+how far its colour is from the board's, so a red wire on a green mat, a white
+wire beside a black one and a copper tip all stand out alike; it finds centre
+lines as ridges of that contrast at the scales wires have, and it takes an end
+only when what lies around it can be seen to be bare board.
+
+1. The working image: k x k block averaging to 2-4 px/mm, colour kept.
+2. Contrast: the board's colour is estimated per BOARD_BLOCK_MM block (the median,
+   then the median of each 3 x 3 blocks, so blocks full of wire are outvoted) and
+   subtracted; each channel is divided by its own robust spread (noise and board
+   texture); the contrast F is the root mean square over the channels.
+3. Ridges: F smoothed at scales matched to wire diameters 0.8-3 mm; the Hessian's
+   most negative eigenvalue, scale-normalised, is the ridge strength; each pixel
+   keeps its best scale; non-maximum suppression across the ridge and hysteresis
+   leave the centre lines, thinned to one pixel.
+4. The wire graph: ends (one neighbour) and crossings (three or more); spurs shorter
+   than SPUR_MM are pruned; a gap of up to GAP_MM straight ahead of an end is
+   bridged when a centre line continues beyond it in the same direction.
+5. Each end: traced inward for SPAN_MM (a crossing on the way: it touches another
+   wire); the wire's width measured across it; the tip followed outward along the
+   contrast past the ridge's end (a rounded cap, a ferrule, stripped copper) to
+   where the board begins; an end at the frame border, or whose contrast runs on
+   (under another wire), is refused.
+6. Free: the board must show beside the whole span, beyond the tip, and in a
+   CLEARANCE_MM disc round the grasp point (room for the fingers).
+7. The sighting: the tip; the direction into the wire fitted over END_FIT_MM; the
+   grasp point GRASP_MM along the centre line, centred across the wire; the tangent
+   there; candidates ordered by contrast and clearance.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..camera.images import ImageError
+from .common import Clock, principal_direction
+from .sighting import Sighting
+
+GRASP_MM = 15.0  # the grasp point's distance from the tip, along the wire
+SPAN_MM = 20.0  # wire that must be free from the tip: the grasp point and 5 mm beyond
+CLEARANCE_MM = 4.3  # free board round the grasp point, from the centre line: the fingers' room
+SIDE_FREE_MM = 0.9  # free board beside the wire's edges along the span and beyond its tip
+BORDER_MM = 3.0  # a tip or span this close to the frame's edge may be cut by it
+BOARD_BLOCK_MM = 8.0  # blocks in which the board's colour is estimated
+SCALES_MM = (0.35, 0.7, 1.2)  # Gaussian sigmas matched to wire diameters ~0.8, 1.6 and 3 mm
+MIN_SIGMA_PX = 0.8  # below this a Gaussian on the working grid is no longer one
+RIDGE_HIGH = 2.0  # hysteresis on the ridge strength, in units of the contrast's spread
+RIDGE_LOW = 0.9
+MIN_LINE_MM = 5.0  # shorter centre-line pieces are noise or texture
+SPUR_MM = 2.0  # branches this short that end at a crossing are whiskers
+GAP_MM = 2.5  # a break in a centre line this long, straight ahead, is bridged
+GAP_CONE_DEG = 30.0
+TIP_MAX_MM = 12.0  # the longest ferrule or stripped conductor followed past the insulation
+CONDUCTOR_RIDGE = 1.5  # the finest scale's ridge strength that marks a thin conductor
+TIP_START_MM = 3.0  # the search for the tip starts this far in along the centre line
+END_FIT_MM = 6.0  # the end's direction is fitted over this much of the centre line
+TANGENT_MM = 2.5  # the tangent at the grasp point: over this much either side
+BOARD_FLOOR = 4.0  # contrast (spreads) below which a pixel may be bare board, whatever the wire
+BOARD_SHARE = 0.3  # ... and below this share of the wire's own contrast
+ALLOWED_HITS = 3  # "free" samples that may show contrast (noise, grain): a few, not a wire's edge
+ENOUGH = 3  # candidates to find before the search stops (0: all)
+
+# 8-neighbour offsets (row, col), clockwise from E
+NEIGHBOURS = ((0, 1), (1, 1), (1, 0), (1, -1), (0, -1), (-1, -1), (-1, 0), (-1, 1))
+
+
+@dataclass
+class RidgeResult:
+    """What the ridge finder saw: candidates best-first, stage times, its centre lines and refusals."""
+
+    candidates: list = field(default_factory=list)
+    timings: dict = field(default_factory=dict)
+    skeleton: np.ndarray | None = None  # the centre lines on the working grid
+    scale: int = 1  # input pixels per working pixel
+    rejected: list = field(default_factory=list)  # ((u, v) input px, why) for each refused end
+
+
+def working_image(image: np.ndarray, px_per_mm: float) -> tuple[np.ndarray, int]:
+    """(the image block-averaged to 2-4 px/mm as float32 (rows, cols, channels), the block size)."""
+    a = np.asarray(image)
+    if a.dtype == np.uint8:
+        a = a.astype(np.float32) / 255.0
+    elif a.dtype == np.uint16:
+        a = a.astype(np.float32) / 65535.0
+    else:
+        a = a.astype(np.float32, copy=False)
+    if a.ndim == 2:
+        a = a[:, :, None]
+    if a.ndim != 3 or a.shape[2] not in (1, 3, 4):
+        raise ImageError(f"an image is rows x columns (x 3 colours), not shape {np.shape(image)}")
+    a = a[:, :, :3]
+    if not np.all(np.isfinite(a)):
+        raise ImageError("the image holds values that are not finite numbers (NaN or infinity)")
+    k = max(1, int(px_per_mm // 2.0))
+    h, w = a.shape[0] // k * k, a.shape[1] // k * k
+    if h < 16 * k or w < 16 * k:
+        raise ImageError(f"the image ({a.shape[1]} x {a.shape[0]} px) is too small to find wires in")
+    if k > 1:
+        a = a[:h, :w].reshape(h // k, k, w // k, k, -1).mean(axis=(1, 3))
+    return np.ascontiguousarray(a, np.float32), k
+
+
+def contrast(work: np.ndarray, wppm: float) -> np.ndarray:
+    """F: each pixel's distance in colour from the board there, in units of the board's spread."""
+    from scipy import ndimage
+
+    h, w, ch = work.shape
+    b = max(int(round(BOARD_BLOCK_MM * wppm)), 4)
+    nby, nbx = max(h // b, 1), max(w // b, 1)
+    bh, bw = h // nby, w // nbx
+    sub = work[:nby * bh:2, :nbx * bw:2]
+    sh, sw = sub.shape[0] // nby, sub.shape[1] // nbx
+    blocks = sub[:nby * sh, :nbx * sw].reshape(nby, sh, nbx, sw, ch).transpose(0, 2, 1, 3, 4).reshape(nby, nbx, -1, ch)
+    board = np.median(blocks, axis=2)
+    if nby >= 3 and nbx >= 3:
+        board = ndimage.median_filter(board, size=(3, 3, 1), mode="nearest")
+    # bilinear enlargement by two small matrix products per channel
+    ay = _interp_matrix(h, nby, bh)
+    ax = _interp_matrix(w, nbx, bw)
+    diff = np.empty_like(work)
+    for c in range(ch):
+        diff[:, :, c] = work[:, :, c] - ay @ board[:, :, c] @ ax.T
+    spread = 1.4826 * np.median(np.abs(diff[::3, ::3].reshape(-1, ch)), axis=0) + 1e-3
+    diff /= spread.astype(np.float32)
+    return np.sqrt(np.mean(diff * diff, axis=2))
+
+
+def _interp_matrix(n: int, blocks: int, size: int) -> np.ndarray:
+    """(n, blocks) weights that interpolate block centres linearly to n pixels (edges held)."""
+    pos = (np.arange(n) + 0.5) / size - 0.5
+    pos = np.clip(pos, 0, blocks - 1)
+    lo = np.floor(pos).astype(int)
+    hi = np.minimum(lo + 1, blocks - 1)
+    t = (pos - lo).astype(np.float32)
+    m = np.zeros((n, blocks), np.float32)
+    m[np.arange(n), lo] += 1 - t
+    m[np.arange(n), hi] += t
+    return m
+
+
+def ridges(f: np.ndarray, wppm: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(strength, normal row, normal col, fine): the best scale's ridge strength of F at each pixel,
+    the unit normal across the ridge there, and the finest scale's strength (thin conductors)."""
+    from scipy import ndimage
+
+    best = np.zeros_like(f)
+    nr = np.zeros_like(f)
+    nc = np.zeros_like(f)
+    sigmas = sorted({max(round(s * wppm, 1), MIN_SIGMA_PX) for s in SCALES_MM})
+    fine = best
+    for sigma in sigmas:
+        g = ndimage.gaussian_filter(f, sigma, mode="nearest")
+        grr = np.zeros_like(g)
+        gcc = np.zeros_like(g)
+        grr[1:-1] = g[2:] - 2 * g[1:-1] + g[:-2]
+        gcc[:, 1:-1] = g[:, 2:] - 2 * g[:, 1:-1] + g[:, :-2]
+        grc = np.zeros_like(g)
+        grc[1:-1, 1:-1] = (g[2:, 2:] - g[2:, :-2] - g[:-2, 2:] + g[:-2, :-2]) * 0.25
+        half = (grr - gcc) * 0.5
+        root = np.sqrt(half * half + grc * grc)
+        low = (grr + gcc) * 0.5 - root  # the most negative curvature: across a bright ridge
+        strength = -low * (sigma * sigma)
+        better = strength > best
+        # the eigenvector of `low`: (low - gcc, grc) in (row, col), or (grc, low - grr) where that is 0
+        ar, ac = low - gcc, grc
+        br, bc = grc, low - grr
+        use_a = ar * ar + ac * ac >= br * br + bc * bc
+        vr = np.where(use_a, ar, br)
+        vc = np.where(use_a, ac, bc)
+        norm = np.maximum(np.sqrt(vr * vr + vc * vc), 1e-12)
+        vr, vc = vr / norm, vc / norm
+        best = np.where(better, strength, best)
+        nr = np.where(better, vr, nr)
+        nc = np.where(better, vc, nc)
+        if sigma == sigmas[0]:
+            fine = strength
+    return best, nr, nc, fine
+
+
+def centre_lines(strength: np.ndarray, nr: np.ndarray, nc: np.ndarray, wppm: float) -> np.ndarray:
+    """The ridges' centre lines: non-maximum suppression across each ridge, then hysteresis."""
+    from scipy import ndimage
+
+    from .binary import thin
+
+    h, w = strength.shape
+    pad = np.pad(strength, 1)
+    # the neighbour across the ridge, rounded to one of the 8 directions
+    dr = np.rint(nr * 1.2).astype(int).clip(-1, 1)
+    dc = np.rint(nc * 1.2).astype(int).clip(-1, 1)
+    rows, cols = np.mgrid[1:h + 1, 1:w + 1]
+    ahead = pad[rows + dr, cols + dc]
+    behind = pad[rows - dr, cols - dc]
+    peak = (strength >= ahead) & (strength > behind) & (strength > RIDGE_LOW)
+    labels, n = ndimage.label(peak, np.ones((3, 3)))
+    if n == 0:
+        return peak
+    top = ndimage.maximum(strength, labels, np.arange(1, n + 1))
+    size = ndimage.sum_labels(peak, labels, np.arange(1, n + 1))
+    keep = np.concatenate([[False], (top > RIDGE_HIGH) & (size >= MIN_LINE_MM * wppm * 0.7)])
+    lines = keep[labels]
+    # close one-pixel breaks across the ridge's own direction, then thin to one pixel
+    lines = ndimage.binary_closing(lines, np.ones((2, 2)), border_value=0) | lines
+    return thin(lines)
+
+
+def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = ENOUGH) -> RidgeResult:
+    """Graspable wire ends in an image (grey or colour) at px_per_mm, best first."""
+    result = RidgeResult()
+    clock = Clock(result.timings)
+    began = clock.last
+    work, k = working_image(image, px_per_mm)
+    wppm = px_per_mm / k
+    result.scale = k
+    clock("average")
+    f = contrast(work, wppm)
+    clock("contrast")
+    strength, nr, nc, fine = ridges(f, wppm)
+    clock("ridges")
+    skeleton = centre_lines(strength, nr, nc, wppm)
+    clock("centre lines")
+    graph = _Graph(skeleton, wppm)
+    graph.prune_spurs()
+    graph.bridge_gaps()
+    result.skeleton = graph.skeleton
+    clock("graph")
+    reader = _EndReader(f, fine, graph, wppm, k, result)
+    for end in graph.ends_in_order(f):
+        s = reader.read(end)
+        if s is not None:
+            result.candidates.append(s)
+            if enough and len(result.candidates) >= enough:
+                break
+    result.candidates.sort(key=lambda s: -s.score)
+    clock("ends")
+    result.timings["total"] = (clock.last - began) * 1000.0
+    return result
+
+
+class _Graph:
+    """The centre lines as a graph on the working grid: ends, crossings, tracing."""
+
+    def __init__(self, skeleton: np.ndarray, wppm: float) -> None:
+        self.wppm = wppm
+        self.h, self.w = skeleton.shape
+        self.W = self.w + 2
+        self.flat = np.pad(skeleton, 1).ravel().copy()
+        self.offsets = [dr * self.W + dc for dr, dc in NEIGHBOURS]
+        self._count()
+
+    def _count(self) -> None:
+        from scipy import ndimage
+
+        grid = self.flat.reshape(self.h + 2, self.W)
+        n = ndimage.convolve(grid.astype(np.uint8), np.ones((3, 3), np.uint8), mode="constant") - 1
+        self.degree = np.where(grid, n, 0).ravel()
+
+    @property
+    def skeleton(self) -> np.ndarray:
+        return self.flat.reshape(self.h + 2, self.W)[1:-1, 1:-1]
+
+    def ends(self) -> np.ndarray:
+        return np.flatnonzero(self.flat & (self.degree == 1))
+
+    def rc(self, i: int) -> tuple[int, int]:
+        return i // self.W - 1, i % self.W - 1
+
+    def trace(self, start: int, limit_px: float) -> tuple[list[int], str]:
+        """Follow the centre line from an end for limit_px of arc: (pixels, how it stopped:
+        'crossing', 'end' or 'far')."""
+        flat, offsets = self.flat, self.offsets
+        path = [start]
+        prev = -1
+        cur = start
+        arc = 0.0
+        while arc < limit_px:
+            nxt = [cur + o for o in offsets if flat[cur + o] and cur + o != prev and cur + o not in path[-3:]]
+            if not nxt:
+                return path, "end"
+            if len(nxt) > 1:
+                # an edge neighbour and the diagonal beside it are one step of the same line
+                edge = [q for q in nxt if abs(q - cur) in (1, self.W)]
+                if len(nxt) == 2 and len(edge) == 1 and _adjacent(nxt[0], nxt[1], self.W):
+                    nxt = edge
+                else:
+                    return path, "crossing"
+            step = nxt[0]
+            arc += 1.0 if abs(step - cur) in (1, self.W) else 1.4142
+            prev, cur = cur, step
+            path.append(cur)
+        return path, "far"
+
+    def prune_spurs(self) -> None:
+        limit = SPUR_MM * self.wppm
+        for e in self.ends():
+            if not self.flat[e]:
+                continue
+            path, how = self.trace(int(e), limit)
+            if how == "crossing":
+                self.flat[path[:-1] if len(path) > 1 else path] = False
+        self._count()
+
+    def bridge_gaps(self) -> None:
+        """Join an end to a centre line that goes on straight ahead of it across a short gap."""
+        from scipy.spatial import cKDTree
+
+        ends = self.ends()
+        if len(ends) < 1:
+            return
+        on = np.flatnonzero(self.flat)
+        pts = np.column_stack(np.divmod(on, self.W)).astype(float)
+        tree = cKDTree(pts)
+        reach = GAP_MM * self.wppm
+        cos_cone = math.cos(math.radians(GAP_CONE_DEG))
+        joined = False
+        for e in ends:
+            path, _ = self.trace(int(e), 3.0 * self.wppm)
+            if len(path) < 3:
+                continue
+            p0 = np.array(divmod(int(e), self.W), float)
+            inward = np.array(divmod(path[-1], self.W), float) - p0
+            out = -inward / max(float(np.linalg.norm(inward)), 1e-9)
+            own = set(path)
+            best, best_d = None, math.inf
+            for j in tree.query_ball_point(p0, reach):
+                q = int(on[j])
+                if q in own:
+                    continue
+                d = pts[j] - p0
+                dist = float(np.linalg.norm(d))
+                if dist < 1.5 or d @ out < cos_cone * dist:
+                    continue
+                if dist < best_d:
+                    best, best_d = pts[j], dist
+            if best is not None:
+                n = int(math.ceil(best_d)) + 1
+                for t in np.linspace(0, 1, n):
+                    r, c = np.rint(p0 + t * (best - p0)).astype(int)
+                    self.flat[r * self.W + c] = True
+                joined = True
+        if joined:
+            self._count()
+
+    def ends_in_order(self, f: np.ndarray) -> list[int]:
+        """Ends, those on the strongest, longest-looking lines first (a cheap prior)."""
+        ends = self.ends()
+        if not len(ends):
+            return []
+        r, c = np.divmod(ends, self.W)
+        score = f[np.clip(r - 1, 0, self.h - 1), np.clip(c - 1, 0, self.w - 1)]
+        return [int(e) for e in ends[np.argsort(-score)]]
+
+
+def _adjacent(a: int, b: int, W: int) -> bool:
+    ra, ca = divmod(a, W)
+    rb, cb = divmod(b, W)
+    return max(abs(ra - rb), abs(ca - cb)) == 1
+
+
+class _EndReader:
+    """Reads one centre-line end: classify it, follow its tip, check it is free, make a Sighting."""
+
+    def __init__(self, f: np.ndarray, fine: np.ndarray, graph: _Graph, wppm: float, k: int,
+                 result: RidgeResult) -> None:
+        self.f = f
+        self.fine = fine
+        self.g = graph
+        self.wppm = wppm
+        self.k = k
+        self.result = result
+        self.h, self.w = f.shape
+
+    def refuse(self, at, why: str) -> None:
+        r, c = at
+        self.result.rejected.append(((float((c + 0.5) * self.k - 0.5), float((r + 0.5) * self.k - 0.5)), why))
+
+    def sample(self, pts: np.ndarray, of: np.ndarray | None = None) -> np.ndarray:
+        from scipy import ndimage
+
+        return ndimage.map_coordinates(self.f if of is None else of, pts.T, order=1, mode="nearest")
+
+    def read(self, end: int):
+        g, mm = self.g, self.wppm
+        start = np.array(g.rc(end), float)
+        border = BORDER_MM * mm
+        path, how = g.trace(end, (SPAN_MM + 1.0) * mm)
+        line = np.array([g.rc(i) for i in path], float)
+        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(line, axis=0), axis=1))])
+        if how == "crossing" and arc[-1] < SPAN_MM * mm:
+            return self.refuse(start, f"it meets another line {arc[-1] / mm:.0f} mm from its end")
+        if how == "end" and arc[-1] < SPAN_MM * mm:
+            return self.refuse(start, f"the line is only {arc[-1] / mm:.0f} mm long")
+        fit = line[arc <= END_FIT_MM * mm]
+        inward = principal_direction(fit) if len(fit) >= 3 else line[-1] - line[0]
+        inward = inward / max(float(np.linalg.norm(inward)), 1e-9)
+        if inward @ (line[min(len(line) - 1, len(fit))] - line[0]) < 0:
+            inward = -inward
+        # the wire's contrast and width along its first SPAN_MM
+        core = self.sample(line)
+        level = float(np.median(core))
+        board = max(BOARD_FLOOR, BOARD_SHARE * level)
+        width = self.width(line, board)
+        # the tip: from inside the wire, follow the contrast outward along the centre line and on
+        # past the ridge's end (which smoothing may carry beyond the wire) to where it drops
+        out = -inward
+        beyond = np.arange(TIP_MAX_MM * mm, 0.0, -0.5)
+        ext = np.vstack([start + beyond[:, None] * out, line])
+        es = np.concatenate([-beyond, arc])
+        inside = es <= TIP_START_MM * mm
+        scan = ext[inside][::-1]  # from TIP_START_MM in, outward
+        scan_s = es[inside][::-1]
+        side = np.array([-out[1], out[0]])
+        lateral = np.array([-0.25, 0.0, 0.25]) * width
+        ray = scan[:, None, :] + lateral[None, :, None] * side
+        along = self.sample(ray.reshape(-1, 2)).reshape(len(scan), len(lateral)).max(axis=1)
+        thin = self.sample(ray.reshape(-1, 2), self.fine).reshape(len(scan), len(lateral)).max(axis=1)
+        # the wire goes on while it stands out as the insulation does, or as a thin conductor does:
+        # a faint but sharp ridge on the axis (a shadow or a blur is faint and broad)
+        conductor = (along >= BOARD_FLOOR) & (thin >= CONDUCTOR_RIDGE)
+        below = (along < board) & ~conductor
+        along = np.where(conductor & (along < board), board, along)
+        gone = np.flatnonzero(below[:-1] & below[1:])
+        if not gone.size:
+            return self.refuse(start, "its contrast runs on past its end (under or into something)")
+        i = int(gone[0])
+        if i == 0:
+            return self.refuse(start, "no wire to be seen at its end")
+        a, b = along[i - 1], along[i]
+        frac = float(np.clip((a - board) / max(a - b, 1e-6), 0, 1))
+        tip_s = scan_s[i - 1] + frac * (scan_s[i] - scan_s[i - 1])
+        tip = np.array([np.interp(tip_s, es, ext[:, 0]), np.interp(tip_s, es, ext[:, 1])])
+        r, c = tip
+        if r < border or c < border or r > self.h - 1 - border or c > self.w - 1 - border:
+            return self.refuse(start, "its end is at the frame's border")
+        # the centre line from the tip, and the grasp point GRASP_MM along it
+        full = self.recentred(_resample(np.vstack([tip[None, :], ext[es > tip_s]]), 1.0), width)
+        s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(full, axis=0), axis=1))])
+        if s[-1] < SPAN_MM * mm * 0.98 and how != "far":
+            return self.refuse(start, "too little wire past its end")
+        if np.any(full < border) or np.any(full[:, 0] > self.h - 1 - border) or np.any(full[:, 1] > self.w - 1 - border):
+            return self.refuse(start, "the wire runs off the frame near its end")
+        grasp = np.array([np.interp(GRASP_MM * mm, s, full[:, 0]), np.interp(GRASP_MM * mm, s, full[:, 1])])
+        near = (s >= (GRASP_MM - TANGENT_MM) * mm) & (s <= (GRASP_MM + TANGENT_MM) * mm)
+        tangent = principal_direction(full[near]) if near.sum() >= 3 else inward
+        why = self.crowded(full, s, tip, out, grasp, width, board)
+        if why:
+            return self.refuse(start, why)
+        grasp = self.centred(grasp, tangent, width)
+        return self.sighting(tip, inward, grasp, tangent, level, width)
+
+    def recentred(self, line: np.ndarray, width: float) -> np.ndarray:
+        """The centre line moved across the wire to the middle of its contrast (sub-pixel); the
+        first point, the tip, stays where the tip search put it."""
+        from scipy import ndimage
+
+        if len(line) < 5:
+            return line
+        t = np.gradient(line, axis=0)
+        t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-9)
+        n = np.column_stack([-t[:, 1], t[:, 0]])
+        offs = np.linspace(-0.8 * width, 0.8 * width, 9)
+        pts = line[:, None, :] + offs[None, :, None] * n[:, None, :]
+        prof = self.sample(pts.reshape(-1, 2)).reshape(len(line), len(offs))
+        wts = np.clip(prof - 0.5 * prof.max(axis=1, keepdims=True), 0, None)
+        total = wts.sum(axis=1)
+        shift = np.where(total > 0, (wts * offs).sum(axis=1) / np.maximum(total, 1e-9), 0.0)
+        shift = ndimage.median_filter(np.clip(shift, -0.5 * width, 0.5 * width), 5, mode="nearest")
+        shift = ndimage.uniform_filter1d(shift, 5, mode="nearest")
+        shift[0] = 0.0
+        return line + shift[:, None] * n
+
+    def width(self, line: np.ndarray, board: float) -> float:
+        """The wire's width (working px): across it, where its contrast stands above the board."""
+        if len(line) < 8:
+            return 2.0
+        idx = np.linspace(len(line) // 4, len(line) - 2, 5).astype(int)
+        widths = []
+        for i in idx:
+            t = line[min(i + 2, len(line) - 1)] - line[max(i - 2, 0)]
+            t = t / max(float(np.linalg.norm(t)), 1e-9)
+            n = np.array([-t[1], t[0]])
+            offs = np.arange(-4.0 * self.wppm, 4.0 * self.wppm + 0.01, 0.5)
+            prof = self.sample(line[i] + offs[:, None] * n)
+            mid = len(offs) // 2
+            peak = prof[mid - 4:mid + 5].max()
+            above = prof >= max(0.4 * peak, board)
+            above[1:-1] |= above[:-2] & above[2:]  # a specular line or a grain is no edge
+            if not above[mid]:
+                near = np.flatnonzero(above[mid - 3:mid + 4])
+                if not near.size:
+                    continue
+                mid = mid - 3 + int(near[np.argmin(np.abs(near - 3))])
+            lo = mid
+            while lo > 0 and above[lo - 1]:
+                lo -= 1
+            hi = mid
+            while hi < len(offs) - 1 and above[hi + 1]:
+                hi += 1
+            widths.append((hi - lo + 1) * 0.5)
+        return float(np.clip(np.median(widths), 1.0, 4.0 * self.wppm)) if widths else 2.0
+
+    def crowded(self, full, s, tip, out, grasp, width, board) -> str:
+        """Why the wire near its end is not free (board must show around it), or ''."""
+        mm = self.wppm
+        half = width / 2
+        from scipy.spatial import cKDTree
+
+        dense = _resample(full, 0.5)
+        tree = cKDTree(dense)
+        # beside the span, both sides
+        t = np.gradient(dense, axis=0)
+        t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-9)
+        n = np.column_stack([-t[:, 1], t[:, 0]])
+        offs = half + np.array([0.6, 0.9, 1.2]) * SIDE_FREE_MM * mm
+        band = (dense[:, None, None, :] + (np.array([-1, 1])[None, :, None, None] * offs[None, None, :, None])
+                * n[:, None, None, :]).reshape(-1, 2)
+        # beyond the tip
+        ang = np.radians(np.linspace(-70, 70, 9))
+        rot = np.stack([np.cos(ang), np.sin(ang)], axis=1)
+        dirs = np.column_stack([out[0] * rot[:, 0] - out[1] * rot[:, 1], out[0] * rot[:, 1] + out[1] * rot[:, 0]])
+        cap = (tip[None, None, :] + (half + np.array([0.7, 1.0, 1.4, 2.0, 2.8]) * SIDE_FREE_MM * mm)[None, :, None]
+               * dirs[:, None, :]).reshape(-1, 2)
+        # the disc round the grasp point, less the wire itself
+        radius = CLEARANCE_MM * mm
+        grid = np.arange(-radius, radius + 0.01, 0.75)
+        disc = np.array([(a, b) for a in grid for b in grid if a * a + b * b <= radius * radius]) + grasp
+        own = tree.query(disc)[0] <= half + 0.6 * SIDE_FREE_MM * mm
+        disc = disc[~own]
+        for pts, why in ((band, "another wire or something lies beside it"),
+                         (cap, "something lies just beyond its end"),
+                         (disc, "no room for the fingers at the grasp point")):
+            inside = (pts[:, 0] >= 0) & (pts[:, 1] >= 0) & (pts[:, 0] <= self.h - 1) & (pts[:, 1] <= self.w - 1)
+            pts = pts[inside]
+            if not len(pts):
+                continue
+            # points that fall on the wire itself (it bends) do not count
+            pts = pts[tree.query(pts)[0] > half + 0.3 * SIDE_FREE_MM * mm]
+            if len(pts) and np.count_nonzero(self.sample(pts) >= board) > max(ALLOWED_HITS, 0.004 * len(pts)):
+                return why
+        return ""
+
+    def centred(self, grasp, tangent, width) -> np.ndarray:
+        """The grasp point moved across the wire to the middle of its contrast."""
+        n = np.array([-tangent[1], tangent[0]])
+        offs = np.arange(-width, width + 0.01, 0.25)
+        prof = self.sample(grasp + offs[:, None] * n)
+        wts = np.clip(prof - 0.5 * prof.max(), 0, None)
+        if wts.sum() <= 0:
+            return grasp
+        shift = float((wts * offs).sum() / wts.sum())
+        return grasp + np.clip(shift, -0.5 * width, 0.5 * width) * n
+
+    def sighting(self, tip, inward, grasp, tangent, level, width) -> Sighting:
+        k = self.k
+
+        def to_input(p):
+            return ((p[1] + 0.5) * k - 0.5, (p[0] + 0.5) * k - 0.5)
+
+        end_angle = math.degrees(math.atan2(inward[0], inward[1]))
+        grasp_angle = math.degrees(math.atan2(tangent[0], tangent[1])) % 180.0
+        score = level / (1.0 + level)
+        return Sighting(to_input(tip), end_angle, to_input(grasp), grasp_angle, score)
+
+
+def _resample(pts: np.ndarray, step: float) -> np.ndarray:
+    seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+    cum = np.concatenate([[0.0], np.cumsum(seg)])
+    s = np.arange(0.0, cum[-1] + 1e-9, step)
+    return np.column_stack([np.interp(s, cum, pts[:, 0]), np.interp(s, cum, pts[:, 1])])
