@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 
@@ -46,13 +47,14 @@ SPAN_MM = 20.0  # wire that must be free from the tip: the grasp point and 5 mm 
 CLEARANCE_MM = 4.3  # free board round the grasp point, from the centre line: the fingers' room
 SIDE_FREE_MM = 0.9  # free board beside the wire's edges along the span and beyond its tip
 BORDER_MM = 3.0  # a tip or span this close to the frame's edge may be cut by it
+MIN_SPREAD = 0.012  # the least board spread believed (3 grey levels): JPEG and sensor noise at the least
 BOARD_BLOCK_MM = 8.0  # blocks in which the board's colour is estimated
 SCALES_MM = (0.35, 0.7, 1.2)  # Gaussian sigmas matched to wire diameters ~0.8, 1.6 and 3 mm
 MIN_SIGMA_PX = 0.8  # below this a Gaussian on the working grid is no longer one
 RIDGE_HIGH = 2.0  # hysteresis on the ridge strength, in units of the contrast's spread
 RIDGE_LOW = 0.9
-MIN_LINE_MM = 5.0  # shorter centre-line pieces are noise or texture
-SPUR_MM = 2.0  # branches this short that end at a crossing are whiskers
+MIN_LINE_MM = 10.0  # shorter centre-line pieces are noise, texture or too short to take
+SPUR_MM = 3.0  # branches this short that end at a crossing are whiskers
 GAP_MM = 2.5  # a break in a centre line this long, straight ahead, is bridged
 GAP_CONE_DEG = 30.0
 TIP_MAX_MM = 12.0  # the longest ferrule or stripped conductor followed past the insulation
@@ -63,8 +65,9 @@ TANGENT_MM = 2.5  # the tangent at the grasp point: over this much either side
 BOARD_FLOOR = 4.0  # contrast (spreads) below which a pixel may be bare board, whatever the wire
 BOARD_SHARE = 0.3  # ... and below this share of the wire's own contrast
 ALLOWED_HITS = 3  # "free" samples that may show contrast (noise, grain): a few, not a wire's edge
-ENOUGH = 3  # candidates to find before the search stops (0: all)
+ENOUGH = 1  # candidates to find before the search stops (0: all)
 
+_COS_CONE = math.cos(math.radians(GAP_CONE_DEG))
 # 8-neighbour offsets (row, col), clockwise from E
 NEIGHBOURS = ((0, 1), (1, 1), (1, 0), (1, -1), (0, -1), (-1, -1), (-1, 0), (-1, 1))
 
@@ -83,26 +86,24 @@ class RidgeResult:
 def working_image(image: np.ndarray, px_per_mm: float) -> tuple[np.ndarray, int]:
     """(the image block-averaged to 2-4 px/mm as float32 (rows, cols, channels), the block size)."""
     a = np.asarray(image)
-    if a.dtype == np.uint8:
-        a = a.astype(np.float32) / 255.0
-    elif a.dtype == np.uint16:
-        a = a.astype(np.float32) / 65535.0
-    else:
-        a = a.astype(np.float32, copy=False)
+    scale = 1.0 / 255.0 if a.dtype == np.uint8 else 1.0 / 65535.0 if a.dtype == np.uint16 else 1.0
     if a.ndim == 2:
         a = a[:, :, None]
-    if a.ndim != 3 or a.shape[2] not in (1, 3, 4):
-        raise ImageError(f"an image is rows x columns (x 3 colours), not shape {np.shape(image)}")
+    if a.ndim != 3 or a.shape[2] not in (1, 3, 4) or not np.issubdtype(a.dtype, np.number):
+        raise ImageError(f"an image is rows x columns (x 3 colours) of numbers, not shape {np.shape(image)}")
     a = a[:, :, :3]
-    if not np.all(np.isfinite(a)):
-        raise ImageError("the image holds values that are not finite numbers (NaN or infinity)")
     k = max(1, int(px_per_mm // 2.0))
     h, w = a.shape[0] // k * k, a.shape[1] // k * k
     if h < 16 * k or w < 16 * k:
         raise ImageError(f"the image ({a.shape[1]} x {a.shape[0]} px) is too small to find wires in")
-    if k > 1:
-        a = a[:h, :w].reshape(h // k, k, w // k, k, -1).mean(axis=(1, 3))
-    return np.ascontiguousarray(a, np.float32), k
+    out = np.zeros((h // k, w // k, a.shape[2]), np.float32)
+    for i in range(k):
+        for j in range(k):
+            out += a[i:h:k, j:w:k]
+    out *= np.float32(scale / (k * k))
+    if not np.isfinite(out).all():
+        raise ImageError("the image holds values that are not finite numbers (NaN or infinity)")
+    return out, k
 
 
 def contrast(work: np.ndarray, wppm: float) -> np.ndarray:
@@ -113,7 +114,7 @@ def contrast(work: np.ndarray, wppm: float) -> np.ndarray:
     b = max(int(round(BOARD_BLOCK_MM * wppm)), 4)
     nby, nbx = max(h // b, 1), max(w // b, 1)
     bh, bw = h // nby, w // nbx
-    sub = work[:nby * bh:2, :nbx * bw:2]
+    sub = work[:nby * bh:3, :nbx * bw:3]
     sh, sw = sub.shape[0] // nby, sub.shape[1] // nbx
     blocks = sub[:nby * sh, :nbx * sw].reshape(nby, sh, nbx, sw, ch).transpose(0, 2, 1, 3, 4).reshape(nby, nbx, -1, ch)
     board = np.median(blocks, axis=2)
@@ -125,9 +126,14 @@ def contrast(work: np.ndarray, wppm: float) -> np.ndarray:
     diff = np.empty_like(work)
     for c in range(ch):
         diff[:, :, c] = work[:, :, c] - ay @ board[:, :, c] @ ax.T
-    spread = 1.4826 * np.median(np.abs(diff[::3, ::3].reshape(-1, ch)), axis=0) + 1e-3
-    diff /= spread.astype(np.float32)
-    return np.sqrt(np.mean(diff * diff, axis=2))
+    spread = np.maximum(1.4826 * np.median(np.abs(diff[::4, ::4].reshape(-1, ch)), axis=0), MIN_SPREAD)
+    diff *= (1.0 / (spread * np.sqrt(ch))).astype(np.float32)
+    if ch == 1:
+        return np.abs(diff[:, :, 0])
+    f = diff[:, :, 0] * diff[:, :, 0]
+    for c in range(1, ch):
+        f += diff[:, :, c] * diff[:, :, c]
+    return np.sqrt(f)
 
 
 def _interp_matrix(n: int, blocks: int, size: int) -> np.ndarray:
@@ -143,70 +149,142 @@ def _interp_matrix(n: int, blocks: int, size: int) -> np.ndarray:
     return m
 
 
-def ridges(f: np.ndarray, wppm: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """(strength, normal row, normal col, fine): the best scale's ridge strength of F at each pixel,
-    the unit normal across the ridge there, and the finest scale's strength (thin conductors)."""
+def ridges(f: np.ndarray, wppm: float) -> tuple[np.ndarray, list, np.ndarray, np.ndarray]:
+    """(strength, smoothed, scale, fine): the best scale's ridge strength of F at each pixel
+    (-sigma^2 times the Hessian's most negative eigenvalue), F smoothed at each scale, the index
+    of the best scale per pixel, and the finest scale's strength (thin conductors)."""
     from scipy import ndimage
 
     best = np.zeros_like(f)
-    nr = np.zeros_like(f)
-    nc = np.zeros_like(f)
-    sigmas = sorted({max(round(s * wppm, 1), MIN_SIGMA_PX) for s in SCALES_MM})
+    which = np.zeros(f.shape, np.uint8)
+    grr = np.zeros_like(f)
+    gcc = np.zeros_like(f)
+    grc = np.zeros_like(f)
     fine = best
-    for sigma in sigmas:
-        g = ndimage.gaussian_filter(f, sigma, mode="nearest")
-        grr = np.zeros_like(g)
-        gcc = np.zeros_like(g)
-        grr[1:-1] = g[2:] - 2 * g[1:-1] + g[:-2]
-        gcc[:, 1:-1] = g[:, 2:] - 2 * g[:, 1:-1] + g[:, :-2]
-        grc = np.zeros_like(g)
-        grc[1:-1, 1:-1] = (g[2:, 2:] - g[2:, :-2] - g[:-2, 2:] + g[:-2, :-2]) * 0.25
-        half = (grr - gcc) * 0.5
-        root = np.sqrt(half * half + grc * grc)
-        low = (grr + gcc) * 0.5 - root  # the most negative curvature: across a bright ridge
-        strength = -low * (sigma * sigma)
-        better = strength > best
-        # the eigenvector of `low`: (low - gcc, grc) in (row, col), or (grc, low - grr) where that is 0
-        ar, ac = low - gcc, grc
-        br, bc = grc, low - grr
-        use_a = ar * ar + ac * ac >= br * br + bc * bc
-        vr = np.where(use_a, ar, br)
-        vc = np.where(use_a, ac, bc)
-        norm = np.maximum(np.sqrt(vr * vr + vc * vc), 1e-12)
-        vr, vc = vr / norm, vc / norm
-        best = np.where(better, strength, best)
-        nr = np.where(better, vr, nr)
-        nc = np.where(better, vc, nc)
-        if sigma == sigmas[0]:
+    smoothed = []
+    for n, sigma in enumerate(_sigmas(wppm)):
+        g = ndimage.gaussian_filter(f, sigma, mode="nearest", truncate=3.0)
+        smoothed.append(g)
+        np.subtract(g[2:], g[1:-1], out=grr[1:-1])
+        grr[1:-1] -= g[1:-1]
+        grr[1:-1] += g[:-2]
+        np.subtract(g[:, 2:], g[:, 1:-1], out=gcc[:, 1:-1])
+        gcc[:, 1:-1] -= g[:, 1:-1]
+        gcc[:, 1:-1] += g[:, :-2]
+        np.subtract(g[2:, 2:], g[2:, :-2], out=grc[1:-1, 1:-1])
+        grc[1:-1, 1:-1] -= g[:-2, 2:]
+        grc[1:-1, 1:-1] += g[:-2, :-2]
+        half = grr - gcc
+        half *= 0.5
+        half *= half
+        q = grc * grc
+        q *= 0.0625  # grc was 4x the cross derivative
+        half += q
+        strength = np.sqrt(half)
+        strength -= (grr + gcc) * 0.5
+        strength *= sigma * sigma
+        if n == 0:
             fine = strength
-    return best, nr, nc, fine
+            best = strength.copy()
+        else:
+            better = strength > best
+            np.maximum(best, strength, out=best)
+            which[better] = n
+    return best, smoothed, which, fine
 
 
-def centre_lines(strength: np.ndarray, nr: np.ndarray, nc: np.ndarray, wppm: float) -> np.ndarray:
-    """The ridges' centre lines: non-maximum suppression across each ridge, then hysteresis."""
+def _sigmas(wppm: float) -> list[float]:
+    return sorted({max(round(s * wppm, 1), MIN_SIGMA_PX) for s in SCALES_MM})
+
+
+def normals(smoothed: list, which: np.ndarray, rows: np.ndarray, cols: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The unit normal (row, col) across the ridge at the given pixels, at each one's best scale."""
+    h, w = which.shape
+    r = rows.clip(1, h - 2)
+    c = cols.clip(1, w - 2)
+    grr = np.empty(len(r), np.float32)
+    gcc = np.empty(len(r), np.float32)
+    grc = np.empty(len(r), np.float32)
+    sel = which[rows, cols]
+    for n, g in enumerate(smoothed):
+        m = sel == n
+        if not m.any():
+            continue
+        rr, cc = r[m], c[m]
+        mid = g[rr, cc]
+        grr[m] = g[rr + 1, cc] - 2 * mid + g[rr - 1, cc]
+        gcc[m] = g[rr, cc + 1] - 2 * mid + g[rr, cc - 1]
+        grc[m] = (g[rr + 1, cc + 1] - g[rr + 1, cc - 1] - g[rr - 1, cc + 1] + g[rr - 1, cc - 1]) * 0.25
+    low = (grr + gcc) * 0.5 - np.sqrt(((grr - gcc) * 0.5) ** 2 + grc * grc)
+    ar, ac = low - gcc, grc
+    br, bc = grc, low - grr
+    use_a = ar * ar + ac * ac >= br * br + bc * bc
+    vr = np.where(use_a, ar, br)
+    vc = np.where(use_a, ac, bc)
+    norm = np.maximum(np.sqrt(vr * vr + vc * vc), 1e-12)
+    return vr / norm, vc / norm
+
+
+def centre_lines(strength: np.ndarray, smoothed: list, which: np.ndarray, wppm: float) -> np.ndarray:
+    """The ridges' centre lines: non-maximum suppression across each ridge, hysteresis, thinning."""
     from scipy import ndimage
 
-    from .binary import thin
-
     h, w = strength.shape
-    pad = np.pad(strength, 1)
-    # the neighbour across the ridge, rounded to one of the 8 directions
-    dr = np.rint(nr * 1.2).astype(int).clip(-1, 1)
-    dc = np.rint(nc * 1.2).astype(int).clip(-1, 1)
-    rows, cols = np.mgrid[1:h + 1, 1:w + 1]
-    ahead = pad[rows + dr, cols + dc]
-    behind = pad[rows - dr, cols - dc]
-    peak = (strength >= ahead) & (strength > behind) & (strength > RIDGE_LOW)
+    W = w + 2
+    pad = np.zeros((h + 2, W), np.float32)
+    pad[1:-1, 1:-1] = strength
+    flat = pad.ravel()
+    cand = np.flatnonzero(flat > RIDGE_LOW)
+    rows, cols = np.divmod(cand, W)
+    ok = (rows >= 1) & (rows <= h) & (cols >= 1) & (cols <= w)
+    cand, rows, cols = cand[ok], rows[ok] - 1, cols[ok] - 1
+    # the neighbour across the ridge, the normal rounded to one of the 8 directions
+    nr, nc = normals(smoothed, which, rows, cols)
+    step = np.rint(nr * 1.2).clip(-1, 1).astype(np.int64) * W + np.rint(nc * 1.2).clip(-1, 1).astype(np.int64)
+    v = flat[cand]
+    keep = (v >= flat[cand + step]) & (v > flat[cand - step])
+    peak = np.zeros(h * w, bool)
+    peak[rows[keep] * w + cols[keep]] = True
+    peak = peak.reshape(h, w)
     labels, n = ndimage.label(peak, np.ones((3, 3)))
     if n == 0:
         return peak
-    top = ndimage.maximum(strength, labels, np.arange(1, n + 1))
-    size = ndimage.sum_labels(peak, labels, np.arange(1, n + 1))
-    keep = np.concatenate([[False], (top > RIDGE_HIGH) & (size >= MIN_LINE_MM * wppm * 0.7)])
-    lines = keep[labels]
-    # close one-pixel breaks across the ridge's own direction, then thin to one pixel
-    lines = ndimage.binary_closing(lines, np.ones((2, 2)), border_value=0) | lines
-    return thin(lines)
+    strong = np.zeros(n + 1, bool)
+    strong[np.unique(labels[peak & (strength > RIDGE_HIGH)])] = True
+    size = np.bincount(labels.ravel(), minlength=n + 1)
+    strong &= size >= MIN_LINE_MM * wppm * 0.7
+    strong[0] = False
+    lines = strong[labels]
+    return thin_sparse(lines)
+
+
+def thin_sparse(mask: np.ndarray) -> np.ndarray:
+    """The binary system's thinning (its passes and tables) computed on the set pixels only:
+    masks of thin lines cost what their pixels do, not what the image does."""
+    from .binary import NEIGHBOURS as PAPER_NEIGHBOURS, deletion_tables
+
+    tables = deletion_tables()
+    h, w = mask.shape
+    W = w + 2
+    grid = np.zeros((h + 2) * W, bool)
+    grid.reshape(h + 2, W)[1:-1, 1:-1] = mask
+    offsets = np.array([dr * W + dc for dr, dc in PAPER_NEIGHBOURS])
+    on = np.flatnonzero(grid)
+    quiet = 0
+    p = 0
+    while quiet < 4 and p < 400:
+        codes = np.zeros(len(on), np.uint8)
+        for k, o in enumerate(offsets):
+            codes |= grid[on + o].astype(np.uint8) << k
+        remove = tables[p % 4][codes]
+        if remove.any():
+            grid[on[remove]] = False
+            on = on[~remove]
+            quiet = 0
+        else:
+            quiet += 1
+        p += 1
+    return grid.reshape(h + 2, W)[1:-1, 1:-1].copy()
 
 
 def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = ENOUGH) -> RidgeResult:
@@ -220,13 +298,12 @@ def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = EN
     clock("average")
     f = contrast(work, wppm)
     clock("contrast")
-    strength, nr, nc, fine = ridges(f, wppm)
+    strength, smoothed, which, fine = ridges(f, wppm)
     clock("ridges")
-    skeleton = centre_lines(strength, nr, nc, wppm)
+    skeleton = centre_lines(strength, smoothed, which, wppm)
     clock("centre lines")
     graph = _Graph(skeleton, wppm)
     graph.prune_spurs()
-    graph.bridge_gaps()
     result.skeleton = graph.skeleton
     clock("graph")
     reader = _EndReader(f, fine, graph, wppm, k, result)
@@ -251,14 +328,14 @@ class _Graph:
         self.W = self.w + 2
         self.flat = np.pad(skeleton, 1).ravel().copy()
         self.offsets = [dr * self.W + dc for dr, dc in NEIGHBOURS]
+        self._window = None
         self._count()
 
     def _count(self) -> None:
-        from scipy import ndimage
-
-        grid = self.flat.reshape(self.h + 2, self.W)
-        n = ndimage.convolve(grid.astype(np.uint8), np.ones((3, 3), np.uint8), mode="constant") - 1
-        self.degree = np.where(grid, n, 0).ravel()
+        on = np.flatnonzero(self.flat)
+        self.degree = np.zeros(len(self.flat), np.uint8)
+        for o in self.offsets:
+            self.degree[on] += self.flat[on + o]
 
     @property
     def skeleton(self) -> np.ndarray:
@@ -281,7 +358,13 @@ class _Graph:
         while arc < limit_px:
             nxt = [cur + o for o in offsets if flat[cur + o] and cur + o != prev and cur + o not in path[-3:]]
             if not nxt:
-                return path, "end"
+                jump = self.across_gap(path) if len(path) > 4 else None
+                if jump is None:
+                    return path, "end"
+                arc += float(np.hypot(*np.subtract(divmod(jump, self.W), divmod(cur, self.W))))
+                prev, cur = -1, jump
+                path.append(cur)
+                continue
             if len(nxt) > 1:
                 # an edge neighbour and the diagonal beside it are one step of the same line
                 edge = [q for q in nxt if abs(q - cur) in (1, self.W)]
@@ -305,54 +388,63 @@ class _Graph:
                 self.flat[path[:-1] if len(path) > 1 else path] = False
         self._count()
 
-    def bridge_gaps(self) -> None:
-        """Join an end to a centre line that goes on straight ahead of it across a short gap."""
-        from scipy.spatial import cKDTree
+    def across_gap(self, path: list[int]) -> int | None:
+        """Where the centre line goes on across a short break straight ahead of path's last pixel:
+        the nearest other line end within GAP_MM in a GAP_CONE_DEG cone (a break leaves two ends
+        facing each other), or None."""
+        W = self.W
+        here = np.array(divmod(path[-1], W), float)
+        back = np.array(divmod(path[max(len(path) - 1 - int(2.0 * self.wppm), 0)], W), float)
+        ahead = here - back
+        n = float(np.linalg.norm(ahead))
+        if n < 1.0:
+            return None
+        ahead /= n
+        rr, cc, dist = self._gap_window
+        cone = rr * ahead[0] + cc * ahead[1] >= _COS_CONE * dist
+        idx = path[-1] + (rr[cone] * W + cc[cone]).astype(np.int64)
+        ok = (idx >= 0) & (idx < len(self.flat))
+        idx, d = idx[ok], dist[cone][ok]
+        hit = (self.degree[idx] == 1) & self.flat[idx]
+        if not hit.any():
+            return None
+        recent = set(path[-12:])
+        for k in np.argsort(d[hit]):
+            i = int(idx[hit][k])
+            if i not in recent:
+                return i
+        return None
 
-        ends = self.ends()
-        if len(ends) < 1:
-            return
-        on = np.flatnonzero(self.flat)
-        pts = np.column_stack(np.divmod(on, self.W)).astype(float)
-        tree = cKDTree(pts)
-        reach = GAP_MM * self.wppm
-        cos_cone = math.cos(math.radians(GAP_CONE_DEG))
-        joined = False
-        for e in ends:
-            path, _ = self.trace(int(e), 3.0 * self.wppm)
-            if len(path) < 3:
-                continue
-            p0 = np.array(divmod(int(e), self.W), float)
-            inward = np.array(divmod(path[-1], self.W), float) - p0
-            out = -inward / max(float(np.linalg.norm(inward)), 1e-9)
-            own = set(path)
-            best, best_d = None, math.inf
-            for j in tree.query_ball_point(p0, reach):
-                q = int(on[j])
-                if q in own:
-                    continue
-                d = pts[j] - p0
-                dist = float(np.linalg.norm(d))
-                if dist < 1.5 or d @ out < cos_cone * dist:
-                    continue
-                if dist < best_d:
-                    best, best_d = pts[j], dist
-            if best is not None:
-                n = int(math.ceil(best_d)) + 1
-                for t in np.linspace(0, 1, n):
-                    r, c = np.rint(p0 + t * (best - p0)).astype(int)
-                    self.flat[r * self.W + c] = True
-                joined = True
-        if joined:
-            self._count()
+    @property
+    def _gap_window(self):
+        if self._window is None:
+            reach = int(math.ceil(GAP_MM * self.wppm))
+            rr, cc = np.mgrid[-reach:reach + 1, -reach:reach + 1]
+            dist = np.hypot(rr, cc)
+            keep = (dist >= 1.5) & (dist <= reach)
+            self._window = (rr[keep], cc[keep], dist[keep])
+        return self._window
 
     def ends_in_order(self, f: np.ndarray) -> list[int]:
-        """Ends, those on the strongest, longest-looking lines first (a cheap prior)."""
+        """The ends worth reading, best first: those whose line runs on for at least SPAN_MM
+        before it meets another (every other end fails the span test anyway), on the longest,
+        strongest lines first."""
+        from scipy import ndimage
+
         ends = self.ends()
         if not len(ends):
             return []
+        grid = self.flat.reshape(self.h + 2, self.W)
+        crossing = (self.degree >= 3).reshape(grid.shape)
+        pieces, n = ndimage.label(grid & ~ndimage.binary_dilation(crossing, np.ones((3, 3))), np.ones((3, 3)))
+        length = np.bincount(pieces.ravel(), minlength=n + 1).astype(float)
+        length[0] = 0.0
+        piece = pieces.ravel()[ends]
+        long_enough = length[piece] >= 0.85 * SPAN_MM * self.wppm
+        ends, piece = ends[long_enough], piece[long_enough]
         r, c = np.divmod(ends, self.W)
-        score = f[np.clip(r - 1, 0, self.h - 1), np.clip(c - 1, 0, self.w - 1)]
+        score = np.minimum(length[piece], 2 * SPAN_MM * self.wppm) * \
+            np.minimum(f[np.clip(r - 1, 0, self.h - 1), np.clip(c - 1, 0, self.w - 1)], 50.0)
         return [int(e) for e in ends[np.argsort(-score)]]
 
 
@@ -444,6 +536,11 @@ class _EndReader:
             return self.refuse(start, "too little wire past its end")
         if np.any(full < border) or np.any(full[:, 0] > self.h - 1 - border) or np.any(full[:, 1] > self.w - 1 - border):
             return self.refuse(start, "the wire runs off the frame near its end")
+        head = full[s <= END_FIT_MM * mm]
+        if len(head) >= 3:  # the direction from the tip itself (a ridge may bend as it overshoots the end)
+            inward = principal_direction(head)
+            if inward @ (head[-1] - head[0]) < 0:
+                inward = -inward
         grasp = np.array([np.interp(GRASP_MM * mm, s, full[:, 0]), np.interp(GRASP_MM * mm, s, full[:, 1])])
         near = (s >= (GRASP_MM - TANGENT_MM) * mm) & (s <= (GRASP_MM + TANGENT_MM) * mm)
         tangent = principal_direction(full[near]) if near.sum() >= 3 else inward
@@ -475,32 +572,30 @@ class _EndReader:
         return line + shift[:, None] * n
 
     def width(self, line: np.ndarray, board: float) -> float:
-        """The wire's width (working px): across it, where its contrast stands above the board."""
+        """The wire's width (working px): across it at five places, how far its contrast stands
+        above the board (and above 0.4 of its peak) without a break, the median."""
         if len(line) < 8:
             return 2.0
         idx = np.linspace(len(line) // 4, len(line) - 2, 5).astype(int)
+        t = line[np.minimum(idx + 2, len(line) - 1)] - line[np.maximum(idx - 2, 0)]
+        t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-9)
+        n = np.column_stack([-t[:, 1], t[:, 0]])
+        offs = np.arange(-4.0 * self.wppm, 4.0 * self.wppm + 0.01, 0.5)
+        prof = self.sample((line[idx][:, None, :] + offs[None, :, None] * n[:, None, :]).reshape(-1, 2))
+        prof = prof.reshape(len(idx), len(offs))
+        mid = len(offs) // 2
+        peak = prof[:, mid - 4:mid + 5].max(axis=1, keepdims=True)
+        above = prof >= np.maximum(0.4 * peak, board)
+        above[:, 1:-1] |= above[:, :-2] & above[:, 2:]  # a specular line or a grain is no edge
         widths = []
-        for i in idx:
-            t = line[min(i + 2, len(line) - 1)] - line[max(i - 2, 0)]
-            t = t / max(float(np.linalg.norm(t)), 1e-9)
-            n = np.array([-t[1], t[0]])
-            offs = np.arange(-4.0 * self.wppm, 4.0 * self.wppm + 0.01, 0.5)
-            prof = self.sample(line[i] + offs[:, None] * n)
-            mid = len(offs) // 2
-            peak = prof[mid - 4:mid + 5].max()
-            above = prof >= max(0.4 * peak, board)
-            above[1:-1] |= above[:-2] & above[2:]  # a specular line or a grain is no edge
-            if not above[mid]:
-                near = np.flatnonzero(above[mid - 3:mid + 4])
-                if not near.size:
-                    continue
-                mid = mid - 3 + int(near[np.argmin(np.abs(near - 3))])
-            lo = mid
-            while lo > 0 and above[lo - 1]:
-                lo -= 1
-            hi = mid
-            while hi < len(offs) - 1 and above[hi + 1]:
-                hi += 1
+        for row in above:
+            near = np.flatnonzero(row[mid - 3:mid + 4])
+            if not near.size:
+                continue
+            m = mid - 3 + int(near[np.argmin(np.abs(near - 3))])
+            gaps = np.flatnonzero(~row)
+            lo = gaps[gaps < m].max(initial=-1) + 1
+            hi = gaps[gaps > m].min(initial=len(row)) - 1
             widths.append((hi - lo + 1) * 0.5)
         return float(np.clip(np.median(widths), 1.0, 4.0 * self.wppm)) if widths else 2.0
 
@@ -508,10 +603,7 @@ class _EndReader:
         """Why the wire near its end is not free (board must show around it), or ''."""
         mm = self.wppm
         half = width / 2
-        from scipy.spatial import cKDTree
-
-        dense = _resample(full, 0.5)
-        tree = cKDTree(dense)
+        dense = _resample(full, 1.0)
         # beside the span, both sides
         t = np.gradient(dense, axis=0)
         t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-9)
@@ -520,27 +612,26 @@ class _EndReader:
         band = (dense[:, None, None, :] + (np.array([-1, 1])[None, :, None, None] * offs[None, None, :, None])
                 * n[:, None, None, :]).reshape(-1, 2)
         # beyond the tip
-        ang = np.radians(np.linspace(-70, 70, 9))
-        rot = np.stack([np.cos(ang), np.sin(ang)], axis=1)
-        dirs = np.column_stack([out[0] * rot[:, 0] - out[1] * rot[:, 1], out[0] * rot[:, 1] + out[1] * rot[:, 0]])
+        dirs = _fan(out)
         cap = (tip[None, None, :] + (half + np.array([0.7, 1.0, 1.4, 2.0, 2.8]) * SIDE_FREE_MM * mm)[None, :, None]
                * dirs[:, None, :]).reshape(-1, 2)
-        # the disc round the grasp point, less the wire itself
-        radius = CLEARANCE_MM * mm
-        grid = np.arange(-radius, radius + 0.01, 0.75)
-        disc = np.array([(a, b) for a in grid for b in grid if a * a + b * b <= radius * radius]) + grasp
-        own = tree.query(disc)[0] <= half + 0.6 * SIDE_FREE_MM * mm
-        disc = disc[~own]
-        for pts, why in ((band, "another wire or something lies beside it"),
-                         (cap, "something lies just beyond its end"),
-                         (disc, "no room for the fingers at the grasp point")):
-            inside = (pts[:, 0] >= 0) & (pts[:, 1] >= 0) & (pts[:, 0] <= self.h - 1) & (pts[:, 1] <= self.w - 1)
-            pts = pts[inside]
-            if not len(pts):
-                continue
-            # points that fall on the wire itself (it bends) do not count
-            pts = pts[tree.query(pts)[0] > half + 0.3 * SIDE_FREE_MM * mm]
-            if len(pts) and np.count_nonzero(self.sample(pts) >= board) > max(ALLOWED_HITS, 0.004 * len(pts)):
+        # the disc round the grasp point, less the wire itself (its centre line near the grasp point)
+        disc = _disc(CLEARANCE_MM * mm) + grasp
+        ds = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))])
+        local = dense[np.abs(ds - GRASP_MM * mm) <= (CLEARANCE_MM + 3.0) * mm]
+        if len(local):
+            d2 = ((disc[:, None, :] - local[None, :, :]) ** 2).sum(axis=2).min(axis=1)
+            disc = disc[d2 > (half + 0.6 * SIDE_FREE_MM * mm) ** 2]
+        groups = (band, cap, disc)
+        pts = np.vstack(groups)
+        inside = (pts[:, 0] >= 0) & (pts[:, 1] >= 0) & (pts[:, 0] <= self.h - 1) & (pts[:, 1] <= self.w - 1)
+        hit = (self.sample(pts) >= board) & inside
+        start = 0
+        for g, why in zip(groups, ("another wire or something lies beside it", "something lies just beyond its end",
+                                   "no room for the fingers at the grasp point")):
+            count = int(np.count_nonzero(hit[start:start + len(g)]))
+            start += len(g)
+            if count > max(ALLOWED_HITS, 0.004 * len(g)):
                 return why
         return ""
 
@@ -565,6 +656,29 @@ class _EndReader:
         grasp_angle = math.degrees(math.atan2(tangent[0], tangent[1])) % 180.0
         score = level / (1.0 + level)
         return Sighting(to_input(tip), end_angle, to_input(grasp), grasp_angle, score)
+
+
+_FAN = np.radians(np.linspace(-70, 70, 9))
+
+
+def _fan(out: np.ndarray) -> np.ndarray:
+    """Unit directions within 70 degrees either side of out."""
+    c, s = np.cos(_FAN), np.sin(_FAN)
+    return np.column_stack([out[0] * c - out[1] * s, out[0] * s + out[1] * c])
+
+
+@lru_cache(maxsize=16)
+def _disc_template(radius10: int) -> np.ndarray:
+    radius = radius10 / 10.0
+    grid = np.arange(-radius, radius + 0.01, 0.75)
+    a, b = np.meshgrid(grid, grid)
+    inside = a * a + b * b <= radius * radius
+    return np.column_stack([a[inside], b[inside]])
+
+
+def _disc(radius: float) -> np.ndarray:
+    """Points 0.75 px apart filling a disc of the radius (px) round the origin."""
+    return _disc_template(int(round(radius * 10)))
 
 
 def _resample(pts: np.ndarray, step: float) -> np.ndarray:
