@@ -202,8 +202,8 @@ class Truth:
         near = path[arc <= SPAN_MM + FINGER_CLEARANCE_MM + 2 * width / ppm]
         idx = np.round(near).astype(int)
         own[idx[:, 0].clip(0, self.h - 1), idx[:, 1].clip(0, self.w - 1)] = True
-        band = ndimage.distance_transform_edt(~own) <= width / 2 + 1.5
-        rest = self.union & ~band
+        tube = ndimage.distance_transform_edt(~own) <= width / 2 + 0.75 * ppm
+        rest = self.union & ~(tube & self.masks[k])  # everything but this wire near its end
         if not rest.any():
             return True, ""
         dist = ndimage.distance_transform_edt(~rest)

@@ -44,9 +44,10 @@ from .sighting import Sighting
 
 GRASP_MM = 15.0  # the grasp point's distance from the tip, along the wire
 SPAN_MM = 20.0  # wire that must be free from the tip: the grasp point and 5 mm beyond
-CLEARANCE_MM = 4.3  # free board round the grasp point, from the centre line: the fingers' room
+CLEARANCE_MM = 4.6  # free board round the grasp point, from the centre line: the fingers' room
 SIDE_FREE_MM = 0.9  # free board beside the wire's edges along the span and beyond its tip
 BORDER_MM = 3.0  # a tip or span this close to the frame's edge may be cut by it
+SATURATION = 12.0  # contrast (spreads) beyond which a wire is simply there: highlights count no more
 MIN_SPREAD = 0.012  # the least board spread believed (3 grey levels): JPEG and sensor noise at the least
 BOARD_BLOCK_MM = 8.0  # blocks in which the board's colour is estimated
 SCALES_MM = (0.35, 0.7, 1.2)  # Gaussian sigmas matched to wire diameters ~0.8, 1.6 and 3 mm
@@ -59,12 +60,18 @@ GAP_MM = 2.5  # a break in a centre line this long, straight ahead, is bridged
 GAP_CONE_DEG = 30.0
 TIP_MAX_MM = 12.0  # the longest ferrule or stripped conductor followed past the insulation
 CONDUCTOR_RIDGE = 1.5  # the finest scale's ridge strength that marks a thin conductor
-TIP_START_MM = 3.0  # the search for the tip starts this far in along the centre line
+CONDUCTOR_CONTRAST = 1.2  # a faint conductor: its axis this far (spreads) above the board beside it
+CONDUCTOR_WINDOW_MM = 1.0  # ... on average over this much of its length
+TIP_START_MM = 10.0  # the search for the tip starts this far in along the centre line: on the insulation
 END_FIT_MM = 6.0  # the end's direction is fitted over this much of the centre line
 TANGENT_MM = 2.5  # the tangent at the grasp point: over this much either side
 BOARD_FLOOR = 4.0  # contrast (spreads) below which a pixel may be bare board, whatever the wire
 BOARD_SHARE = 0.3  # ... and below this share of the wire's own contrast
-ALLOWED_HITS = 3  # "free" samples that may show contrast (noise, grain): a few, not a wire's edge
+FADE_SHARE = 0.12  # straight past a tip, this share of the wire's contrast still means wire
+FADE_FLOOR = 2.5  # ... and so does this much (spreads): bare board beyond an end is darker than that
+RUN_MM = 0.6  # beside the span: contrast this long along the wire is something there
+CAP_HITS = 3  # beyond the tip and round the grasp point: so many samples with contrast are something
+DISC_HITS = 4
 ENOUGH = 1  # candidates to find before the search stops (0: all)
 
 _COS_CONE = math.cos(math.radians(GAP_CONE_DEG))
@@ -298,7 +305,8 @@ def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = EN
     clock("average")
     f = contrast(work, wppm)
     clock("contrast")
-    strength, smoothed, which, fine = ridges(f, wppm)
+    flat = SATURATION * np.tanh(f * (1.0 / SATURATION))  # a wire's body, not its highlight, makes the ridge
+    strength, smoothed, which, fine = ridges(flat, wppm)
     clock("ridges")
     skeleton = centre_lines(strength, smoothed, which, wppm)
     clock("centre lines")
@@ -307,7 +315,11 @@ def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = EN
     result.skeleton = graph.skeleton
     clock("graph")
     reader = _EndReader(f, fine, graph, wppm, k, result)
-    for end in graph.ends_in_order(f):
+    reader.flat = flat
+    ordered = graph.ends_in_order(f)
+    for end in graph.short:
+        reader.refuse(graph.rc(int(end)), "its line meets another or stops within 20 mm")
+    for end in ordered:
         s = reader.read(end)
         if s is not None:
             result.candidates.append(s)
@@ -329,6 +341,7 @@ class _Graph:
         self.flat = np.pad(skeleton, 1).ravel().copy()
         self.offsets = [dr * self.W + dc for dr, dc in NEIGHBOURS]
         self._window = None
+        self.short = np.zeros(0, np.int64)  # ends on lines too short to read (set by ends_in_order)
         self._count()
 
     def _count(self) -> None:
@@ -441,6 +454,7 @@ class _Graph:
         length[0] = 0.0
         piece = pieces.ravel()[ends]
         long_enough = length[piece] >= 0.85 * SPAN_MM * self.wppm
+        self.short = ends[~long_enough]
         ends, piece = ends[long_enough], piece[long_enough]
         r, c = np.divmod(ends, self.W)
         score = np.minimum(length[piece], 2 * SPAN_MM * self.wppm) * \
@@ -461,6 +475,7 @@ class _EndReader:
                  result: RidgeResult) -> None:
         self.f = f
         self.fine = fine
+        self.flat = f
         self.g = graph
         self.wppm = wppm
         self.k = k
@@ -526,11 +541,12 @@ class _EndReader:
         frac = float(np.clip((a - board) / max(a - b, 1e-6), 0, 1))
         tip_s = scan_s[i - 1] + frac * (scan_s[i] - scan_s[i - 1])
         tip = np.array([np.interp(tip_s, es, ext[:, 0]), np.interp(tip_s, es, ext[:, 1])])
+        tip = self.conductor(tip, out, width)
         r, c = tip
         if r < border or c < border or r > self.h - 1 - border or c > self.w - 1 - border:
             return self.refuse(start, "its end is at the frame's border")
         # the centre line from the tip, and the grasp point GRASP_MM along it
-        full = self.recentred(_resample(np.vstack([tip[None, :], ext[es > tip_s]]), 1.0), width)
+        full = self.recentred(_resample(np.vstack([tip[None, :], ext[es > tip_s + 0.5]]), 1.0), width)
         s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(full, axis=0), axis=1))])
         if s[-1] < SPAN_MM * mm * 0.98 and how != "far":
             return self.refuse(start, "too little wire past its end")
@@ -544,11 +560,31 @@ class _EndReader:
         grasp = np.array([np.interp(GRASP_MM * mm, s, full[:, 0]), np.interp(GRASP_MM * mm, s, full[:, 1])])
         near = (s >= (GRASP_MM - TANGENT_MM) * mm) & (s <= (GRASP_MM + TANGENT_MM) * mm)
         tangent = principal_direction(full[near]) if near.sum() >= 3 else inward
-        why = self.crowded(full, s, tip, out, grasp, width, board)
+        why = self.crowded(full, s, tip, out, grasp, width, board, level)
         if why:
             return self.refuse(start, why)
         grasp = self.centred(grasp, tangent, width)
         return self.sighting(tip, inward, grasp, tangent, level, width)
+
+    def conductor(self, end: np.ndarray, out: np.ndarray, width: float) -> np.ndarray:
+        """The tip of a faint conductor or ferrule running on straight past the insulation's end
+        (end), or end itself if there is none: where the contrast on the axis, averaged over
+        CONDUCTOR_WINDOW_MM, stops standing CONDUCTOR_CONTRAST above the board beside it."""
+        mm = self.wppm
+        steps = np.arange(0.5, TIP_MAX_MM * mm, 0.5)
+        side = np.array([-out[1], out[0]])
+        lateral = np.array([-0.2 * width, 0.0, 0.2 * width, -(width / 2 + mm), width / 2 + mm])
+        pts = end + steps[:, None, None] * out + lateral[None, :, None] * side
+        v = self.sample(pts.reshape(-1, 2)).reshape(len(steps), len(lateral))
+        rise = v[:, :3].mean(axis=1) - v[:, 3:].mean(axis=1)
+        n = max(int(round(CONDUCTOR_WINDOW_MM * mm * 2)), 1)
+        mean = np.convolve(rise, np.ones(n) / n, mode="same")  # over the window centred on each step
+        on = (mean >= CONDUCTOR_CONTRAST) & (rise >= 0.5 * CONDUCTOR_CONTRAST)
+        off = np.flatnonzero(~on)
+        run = int(off[0]) if off.size else len(on)
+        if run < n:
+            return end  # nothing that runs on for a window's length: the blur of the end itself
+        return end + out * steps[run - 1]
 
     def recentred(self, line: np.ndarray, width: float) -> np.ndarray:
         """The centre line moved across the wire to the middle of its contrast (sub-pixel); the
@@ -562,7 +598,7 @@ class _EndReader:
         n = np.column_stack([-t[:, 1], t[:, 0]])
         offs = np.linspace(-0.8 * width, 0.8 * width, 9)
         pts = line[:, None, :] + offs[None, :, None] * n[:, None, :]
-        prof = self.sample(pts.reshape(-1, 2)).reshape(len(line), len(offs))
+        prof = self.sample(pts.reshape(-1, 2), self.flat).reshape(len(line), len(offs))
         wts = np.clip(prof - 0.5 * prof.max(axis=1, keepdims=True), 0, None)
         total = wts.sum(axis=1)
         shift = np.where(total > 0, (wts * offs).sum(axis=1) / np.maximum(total, 1e-9), 0.0)
@@ -599,7 +635,7 @@ class _EndReader:
             widths.append((hi - lo + 1) * 0.5)
         return float(np.clip(np.median(widths), 1.0, 4.0 * self.wppm)) if widths else 2.0
 
-    def crowded(self, full, s, tip, out, grasp, width, board) -> str:
+    def crowded(self, full, s, tip, out, grasp, width, board, level) -> str:
         """Why the wire near its end is not free (board must show around it), or ''."""
         mm = self.wppm
         half = width / 2
@@ -622,17 +658,29 @@ class _EndReader:
         if len(local):
             d2 = ((disc[:, None, :] - local[None, :, :]) ** 2).sum(axis=2).min(axis=1)
             disc = disc[d2 > (half + 0.6 * SIDE_FREE_MM * mm) ** 2]
-        groups = (band, cap, disc)
-        pts = np.vstack(groups)
+        pts = np.vstack((band, cap, disc))
         inside = (pts[:, 0] >= 0) & (pts[:, 1] >= 0) & (pts[:, 0] <= self.h - 1) & (pts[:, 1] <= self.w - 1)
-        hit = (self.sample(pts) >= board) & inside
-        start = 0
-        for g, why in zip(groups, ("another wire or something lies beside it", "something lies just beyond its end",
-                                   "no room for the fingers at the grasp point")):
-            count = int(np.count_nonzero(hit[start:start + len(g)]))
-            start += len(g)
-            if count > max(ALLOWED_HITS, 0.004 * len(g)):
-                return why
+        values = self.sample(pts)
+        hit = (values >= board) & inside
+        nb, nc = len(band), len(cap)
+        # straight on past the tip, even a faint contrast that goes on is the wire going on into
+        # light or a colour that hides it, not its end
+        ahead = values[nb:nb + nc].reshape(len(_FAN), -1)[len(_FAN) // 2 - 1:len(_FAN) // 2 + 2]
+        if np.count_nonzero(ahead >= max(FADE_FLOOR, FADE_SHARE * level)) >= ahead.size // 2:
+            return "its contrast fades but goes on past its end"
+        # beside the span, something that goes on for RUN_MM along it (a speck of the board's
+        # texture or a thin printed line does not)
+        runs = hit[:nb].reshape(len(dense), -1)
+        need = max(int(round(RUN_MM * mm)), 2)
+        if runs.shape[0] >= need:
+            window = np.ones(need, int)
+            longest = max(int(np.convolve(col.astype(int), window, mode="valid").max()) for col in runs.T)
+            if longest >= need:
+                return "another wire or something lies beside it"
+        if np.count_nonzero(hit[nb:nb + nc]) >= CAP_HITS:
+            return "something lies just beyond its end"
+        if np.count_nonzero(hit[nb + nc:]) >= DISC_HITS:
+            return "no room for the fingers at the grasp point"
         return ""
 
     def centred(self, grasp, tangent, width) -> np.ndarray:

@@ -371,7 +371,8 @@ def board(scene: Scene, rng) -> np.ndarray:
         warp = smooth_noise(8.0) * rng.uniform(1.0, 4.0)
         period = rng.uniform(1.5, 5.0)
         grain = np.sin(2 * math.pi * (across + warp + 0.02 * along) / period) ** 2
-        tex = (grain - 0.5) * amp * 1.5
+        strength = 0.5 + 0.5 * np.clip(smooth_noise(6.0), -1, 1)  # grain fades in and out
+        tex = (grain - 0.5) * strength * amp * 0.8 + smooth_noise(0.3) * amp * 0.15
     elif scene.board == "speckled":
         dots = (rng.random((h, w)) < rng.uniform(0.002, 0.02) / max(ppm * ppm / 16, 0.25)).astype(np.float32)
         dots = ndimage.gaussian_filter(dots, rng.uniform(0.15, 0.4) * ppm)

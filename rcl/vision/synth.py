@@ -289,8 +289,8 @@ def _graspable(ws: list[Wire], i: int, end: int, extent: np.ndarray) -> tuple[bo
     skip = int((GRASP_MM + 5.0 + 2 * w.width + FINGER_CLEARANCE_MM) / 0.5)
     if len(own) > skip + 1:  # the same wire, further on, coming back (a loop)
         rest = Wire(own[skip:], w.width, w.layer, w.level)
-        if material_distance(rest, span).min() < w.width / 2:
-            return False, "it crosses itself near its end"
+        if material_distance(rest, span).min() < w.width / 2 + TOUCH_MM:
+            return False, "it crosses or touches itself near its end"
         if material_distance(rest, grasp[None, :])[0] < FINGER_CLEARANCE_MM:
             return False, "no room for the fingers at the grasp point"
     for j, other in enumerate(ws):
