@@ -3,8 +3,8 @@
     python benchmarks/cell.py [TRAYS]      (default 20; runs on both cores)
 
 Three ways, each over the same trays: the paper's grey-scale vision with the
-bicubic warp (the example as it is), the binary vision with the warp
-(BINWIRE for GREYWIRE), and the grey-scale vision with the linear 3x4 camera
+bicubic warp (the example as it is), the default wire finder and the binary
+vision with the warp (FINDWIRE, BINWIRE for GREYWIRE), and the grey-scale vision with the linear 3x4 camera
 model in place of the warp (fitted to the marker seen at two heights, by the
 same arm), which shows why the paper needed the warp: the linear model
 cannot follow the lens's distortion or the arm's inaccuracy; and the two models
@@ -27,7 +27,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 SCRIPT = (ROOT / "examples" / "crimp.rcl").read_text()
-WAYS = ("grey + warp", "binary + warp", "grey + linear", "grey + warp, 0.5 mm fingers",
+WAYS = ("grey + warp", "default + warp", "binary + warp", "grey + linear", "grey + warp, 0.5 mm fingers",
         "grey + linear, 0.5 mm fingers")
 
 
@@ -71,6 +71,8 @@ def run(job: tuple[str, int]) -> dict:
     session = Session(out=io.StringIO(), cell=cell, step_budget=5_000_000)
     if way.startswith("binary"):
         source = source.replace("GREYWIRE(", "BINWIRE(")
+    if way.startswith("default"):
+        source = source.replace("GREYWIRE(", "FINDWIRE(")
     if "linear" in way:
         session.camera_model.model = linear_model(cell)
         source = source.replace("\nGETWARP\n", "\n")

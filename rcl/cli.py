@@ -65,8 +65,9 @@ def _parser() -> argparse.ArgumentParser:
     check.set_defaults(handler=_check)
     vision = sub.add_parser("vision", help="find graspable wire ends in images")
     vision.add_argument("images", nargs="+", metavar="IMAGE")
-    vision.add_argument("--method", choices=("binary", "grey"), default="grey",
-                        help="the paper's grey-scale system (default) or its binary one")
+    vision.add_argument("--method", choices=("ridge", "grey", "binary"), default="ridge",
+                        help="ridge: the default finder (centre lines as ridges, colour-aware); grey or binary: "
+                             "the paper's grey-scale or binary system")
     vision.add_argument("--px-per-mm", type=float, default=4.0, metavar="SCALE",
                         help="the images' scale (default 4)")
     vision.add_argument("--json", action="store_true", help="one JSON object per image and line")

@@ -48,7 +48,7 @@ class Session:
         """robot: a rcl.robots.Robot (default: a SimRobot of the smartarms model); camera: anything with
         grab() -> image array, such as rcl.camera.ImageFiles (default: none);
         camera_model: a rcl.camera.Calibration (default: a new, empty one);
-        wire_finder: f(image, method) -> rcl.vision.Sighting | None for BINWIRE and GREYWIRE
+        wire_finder: f(image, method) -> rcl.vision.Sighting | None for FINDWIRE (method 'ridge'), GREYWIRE and BINWIRE
         (default: the paper's systems, rcl.vision.find_wires);
         out: where WRITE goes (default: sys.stdout); step_budget: stop a run after this many
         loop iterations and routine calls; search_path: extra folders for IMPORT;
@@ -68,7 +68,7 @@ class Session:
         self.search_path = [Path(p) for p in search_path]
         # the camera's scale, for the vision systems' millimetre sizes
         self.px_per_mm = cell.config.px_per_mm() if cell is not None else 4.0
-        self.on_look: Optional[Callable] = None  # f(image, vision result, ms) after every BINWIRE/GREYWIRE
+        self.on_look: Optional[Callable] = None  # f(image, vision result, ms) after every FINDWIRE/GREYWIRE/BINWIRE
         if wire_finder is None:
             wire_finder = self._find_wire
         sim = cell.sim if cell is not None and self.robot is cell.robot and self.camera is cell.camera else None
@@ -125,7 +125,7 @@ class Session:
         return expr, t, scope, module
 
     def _find_wire(self, image, method: str):
-        """The default wire finder: the best candidate of the paper's system by that name."""
+        """The default wire finder: the best candidate of the finder by that name (rcl.vision.METHODS)."""
         from .camera import ImageError
         from .errors import BuiltinError
         from .vision import VisionError, find_wires

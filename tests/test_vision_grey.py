@@ -128,7 +128,7 @@ def test_cli_json_contract_and_overlay(tmp_path):
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         code = main(["vision", str(tmp_path / "a.png"), str(tmp_path / "bad.png"), str(tmp_path / "notes.txt"),
-                     "--json", "--overlay", str(tmp_path / "pics")])
+                     "--json", "--overlay", str(tmp_path / "pics"), "--method", "grey"])
     assert code == 2  # two images could not be read
     lines = [json.loads(line) for line in out.getvalue().splitlines()]
     assert [x["image"] for x in lines] == [str(tmp_path / n) for n in ("a.png", "bad.png", "notes.txt")]

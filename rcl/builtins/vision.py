@@ -77,9 +77,14 @@ def binwire(ctx, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
     return _find(ctx, "binary", w, wg, "BINWIRE")
 
 
+def findwire(ctx, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
+    """FINDWIRE(VAR W^, VAR WG^): look with the default wire finder (centre lines as ridges, every end checked free); TRUE sets W^ and WG^, FALSE if no graspable end."""
+    return _find(ctx, "ridge", w, wg, "FINDWIRE")
+
+
 def greywire(ctx, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
     """GREYWIRE(VAR W^, VAR WG^): look with the grey-scale pipeline; TRUE sets W^ and WG^, FALSE if no graspable end."""
     return _find(ctx, "grey", w, wg, "GREYWIRE")
 
 
-BUILTINS = {"BINWIRE": binwire, "GREYWIRE": greywire}
+BUILTINS = {"FINDWIRE": findwire, "BINWIRE": binwire, "GREYWIRE": greywire}

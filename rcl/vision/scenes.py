@@ -312,34 +312,74 @@ def _wire_look(rng, scene: Scene) -> WireLook:
 
 def render(scene: Scene, wires: list[Wire], rng) -> np.ndarray:
     """The tray's image, float in [0, 1]: (h, w) grey or (h, w, 3) colour."""
-    from scipy import ndimage
+    return finish(scene, paint(scene, wires, scene.looks, backdrop(scene, rng)), rng)
 
-    h, w, ppm = scene.height, scene.width, scene.px_per_mm
+
+def backdrop(scene: Scene, rng) -> np.ndarray:
+    """The board with its rim and clutter, (h, w, 3) float32: what lies under the wires."""
     img = board(scene, rng)
     if scene.rim:
         _rim(img, scene, rng)
     for _ in range(scene.clutter):
         _clutter(img, scene, rng)
+    return img
+
+
+def paint(scene: Scene, wires: list[Wire], looks: list[WireLook], under: np.ndarray) -> np.ndarray:
+    """The wires drawn (lowest layer first, each with its shadow) over a copy of `under`."""
+    img = under.copy()
     for i in sorted(range(len(wires)), key=lambda i: wires[i].layer):
-        _paint_wire(img, wires[i], scene.looks[i], scene)
-    # light: a gradient and vignetting
+        _paint_wire(img, wires[i], looks[i], scene)
+    return img
+
+
+def finish(scene: Scene, img: np.ndarray, rng) -> np.ndarray:
+    """What the camera makes of the lit tray: uneven light and vignetting, blur, noise, grey or
+    colour, JPEG."""
+    from scipy import ndimage
+
+    h, w = img.shape[:2]
     yy, xx = np.mgrid[0:h, 0:w].astype(np.float32)
     g, ang, vig = scene.light
     ramp = ((xx / w - 0.5) * math.cos(ang) + (yy / h - 0.5) * math.sin(ang))
     r2 = ((xx / w - 0.5) ** 2 + (yy / h - 0.5) ** 2) * 2.0
-    img *= ((1.0 + g * ramp) * (1.0 - vig * r2))[..., None]
+    img = img * ((1.0 + g * ramp) * (1.0 - vig * r2))[..., None]
     if scene.blur_px > 0:
         img = ndimage.gaussian_filter(img, (scene.blur_px, scene.blur_px, 0))
     if scene.motion_px > 0:
         axis = int(rng.integers(2))
         img = ndimage.uniform_filter1d(img, max(int(round(scene.motion_px)) + 1, 2), axis=axis)
-    img = img + rng.normal(0.0, scene.noise, img.shape).astype(np.float32)
+    if scene.noise > 0:
+        img = img + rng.normal(0.0, scene.noise, img.shape).astype(np.float32)
     img = np.clip(img, 0.0, 1.0)
     if not scene.colour:
         img = img @ np.array([0.299, 0.587, 0.114], np.float32)
     if scene.jpeg:
         img = _jpeg(img, scene.jpeg)
     return img.astype(np.float64)
+
+
+def cell_scene(rng: np.random.Generator, size_px: int, px_per_mm: float, count: int, layers: int) -> Scene:
+    """How a simulated cell's tray looks, drawn from the cell's own seed: any board, insulation
+    and ends, lit a little unevenly, seen by a monochrome camera that adds its own blur and noise
+    (so none here)."""
+    scene = draw_scene(rng)
+    scene.width = scene.height = int(size_px)
+    scene.px_per_mm = float(px_per_mm)
+    scene.count, scene.layers = int(count), max(int(layers), 1)
+    scene.shapes = ("straight", "gentle", "s_bend", "curl")
+    scene.thickness = (1.6, 2.4)  # what the cell's gripper and press are made for
+    scene.colour, scene.blur_px, scene.motion_px, scene.noise, scene.jpeg = False, 0.0, 0.0, 0.0, 0
+    scene.rim, scene.clutter, scene.off_frame, scene.apart = False, 0, 0.0, False
+    scene.light = (min(scene.light[0], 0.2), scene.light[1], min(scene.light[2], 0.15))
+    scene.shadow = min(scene.shadow, 0.25)
+    scene.slice = "cell"
+    return scene
+
+
+def wire_look(rng: np.random.Generator, scene: Scene) -> WireLook:
+    """A wire's insulation, ends and gloss, drawn so that it can be seen on the scene's board."""
+    return _wire_look(rng, scene)
 
 
 def board(scene: Scene, rng) -> np.ndarray:
