@@ -88,7 +88,7 @@ def test_generator_is_seeded_and_covers_every_kind():
     assert not np.array_equal(make_tray("sparse", 1).image, make_tray("sparse", 2).image)
 
 
-@pytest.mark.parametrize("builtin", ["BINWIRE", "GREYWIRE"])
+@pytest.mark.parametrize("builtin", ["FINDWIRE", "BINWIRE", "GREYWIRE"])
 def test_vision_builtins_find_a_true_end_through_the_camera_model(tmp_path, builtin):
     import io
 

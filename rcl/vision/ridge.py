@@ -63,7 +63,8 @@ CONDUCTOR_RIDGE = 1.5  # the finest scale's ridge strength that marks a thin con
 CONDUCTOR_CONTRAST = 1.2  # a faint conductor: its axis this far (spreads) above the board beside it
 CONDUCTOR_WINDOW_MM = 1.0  # ... on average over this much of its length
 TIP_START_MM = 10.0  # the search for the tip starts this far in along the centre line: on the insulation
-END_FIT_MM = 6.0  # the end's direction is fitted over this much of the centre line
+END_FIT_MM = 8.0  # the end's direction is fitted over this much of the centre line
+END_SKIP_MM = 1.0  # ... less its first mm, where a ridge's end may hook
 TANGENT_MM = 2.5  # the tangent at the grasp point: over this much either side
 BOARD_FLOOR = 4.0  # contrast (spreads) below which a pixel may be bare board, whatever the wire
 BOARD_SHARE = 0.3  # ... and below this share of the wire's own contrast
@@ -495,8 +496,12 @@ class _EndReader:
         g, mm = self.g, self.wppm
         start = np.array(g.rc(end), float)
         border = BORDER_MM * mm
-        path, how = g.trace(end, (SPAN_MM + 1.0) * mm)
+        path, how = g.trace(end, (SPAN_MM + CLEARANCE_MM + 4.0) * mm * 1.1)  # past the disc round the grasp
         line = np.array([g.rc(i) for i in path], float)
+        if len(line) >= 5:  # the pixel staircase smoothed, so arc lengths along it are true lengths
+            from scipy import ndimage
+
+            line = ndimage.uniform_filter1d(line, 5, axis=0, mode="nearest")
         arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(line, axis=0), axis=1))])
         if how == "crossing" and arc[-1] < SPAN_MM * mm:
             return self.refuse(start, f"it meets another line {arc[-1] / mm:.0f} mm from its end")
@@ -552,11 +557,15 @@ class _EndReader:
             return self.refuse(start, "too little wire past its end")
         if np.any(full < border) or np.any(full[:, 0] > self.h - 1 - border) or np.any(full[:, 1] > self.w - 1 - border):
             return self.refuse(start, "the wire runs off the frame near its end")
-        head = full[s <= END_FIT_MM * mm]
+        head = full[(s >= END_SKIP_MM * mm) & (s <= END_FIT_MM * mm)]
         if len(head) >= 3:  # the direction from the tip itself (a ridge may bend as it overshoots the end)
             inward = principal_direction(head)
             if inward @ (head[-1] - head[0]) < 0:
                 inward = -inward
+            middle = head.mean(axis=0)  # the tip on that axis: a hooked ridge end is off it
+            on_axis = middle + inward * float((full[0] - middle) @ inward)
+        else:
+            on_axis = full[0]
         grasp = np.array([np.interp(GRASP_MM * mm, s, full[:, 0]), np.interp(GRASP_MM * mm, s, full[:, 1])])
         near = (s >= (GRASP_MM - TANGENT_MM) * mm) & (s <= (GRASP_MM + TANGENT_MM) * mm)
         tangent = principal_direction(full[near]) if near.sum() >= 3 else inward
@@ -564,7 +573,7 @@ class _EndReader:
         if why:
             return self.refuse(start, why)
         grasp = self.centred(grasp, tangent, width)
-        return self.sighting(tip, inward, grasp, tangent, level, width)
+        return self.sighting(on_axis, inward, grasp, tangent, level, width)
 
     def conductor(self, end: np.ndarray, out: np.ndarray, width: float) -> np.ndarray:
         """The tip of a faint conductor or ferrule running on straight past the insulation's end
@@ -588,7 +597,7 @@ class _EndReader:
 
     def recentred(self, line: np.ndarray, width: float) -> np.ndarray:
         """The centre line moved across the wire to the middle of its contrast (sub-pixel); the
-        first point, the tip, stays where the tip search put it."""
+        first point, the tip, put on the centred line's extension."""
         from scipy import ndimage
 
         if len(line) < 5:
@@ -604,8 +613,12 @@ class _EndReader:
         shift = np.where(total > 0, (wts * offs).sum(axis=1) / np.maximum(total, 1e-9), 0.0)
         shift = ndimage.median_filter(np.clip(shift, -0.5 * width, 0.5 * width), 5, mode="nearest")
         shift = ndimage.uniform_filter1d(shift, 5, mode="nearest")
-        shift[0] = 0.0
-        return line + shift[:, None] * n
+        out = line + shift[:, None] * n
+        # the tip: on the centred line's own extension, as far out as the tip search put it
+        ahead = out[1] - out[min(4, len(out) - 1)]
+        ahead /= max(float(np.linalg.norm(ahead)), 1e-9)
+        out[0] = out[1] + ahead * float(np.linalg.norm(line[0] - line[1]))
+        return out
 
     def width(self, line: np.ndarray, board: float) -> float:
         """The wire's width (working px): across it at five places, how far its contrast stands
