@@ -32,7 +32,6 @@ from __future__ import annotations
 
 import argparse
 import collections
-import math
 import sys
 import time
 from pathlib import Path
@@ -212,7 +211,7 @@ class Truth:
         if gap < TOUCH_MM:
             return False, "it crosses or touches another wire near its end"
         g = np.array([np.interp(GRASP_MM, arc, path[:, 0]), np.interp(GRASP_MM, arc, path[:, 1])])
-        if dist[int(round(g[0])), int(round(g[1]))] / ppm < FINGER_CLEARANCE_MM:
+        if dist[round(g[0]), round(g[1])] / ppm < FINGER_CLEARANCE_MM:
             return False, "no room for the fingers at the grasp point"
         return True, ""
 
@@ -304,8 +303,8 @@ def main() -> None:
                 n = sum(v for (i, _), v in c.items() if i == inside)
                 if not n:
                     continue
-                pc = lambda v: f"{100 * c[(inside, v)] / n:.0f}%"  # noqa: E731
-                print(f"  {m:<7} {inside:<22} {n:>4} {pc('correct'):>8} {pc('foul'):>6} {pc('miss'):>6} "
+                pc = [f"{100 * c[(inside, v)] / n:.0f}%" for v in ("correct", "foul", "miss")]
+                print(f"  {m:<7} {inside:<22} {n:>4} {pc[0]:>8} {pc[1]:>6} {pc[2]:>6} "
                       f"{np.median(times[m]):6.1f}")
     if not found_any:
         print(f"no known set under {args.path} (see docs/vision.md)", file=sys.stderr)

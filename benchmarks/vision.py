@@ -60,8 +60,8 @@ def slice_job(job):
 def row(label: str, verdicts: list, errs=None, angs=None, ms=None) -> str:
     n = len(verdicts)
     c = collections.Counter(verdicts)
-    pc = lambda k: f"{100 * c[k] / n:5.1f}%"  # noqa: E731
-    med = lambda a: f"{np.median(a):.2f}" if a else "-"  # noqa: E731
+    pc = lambda k: f"{100 * c[k] / n:5.1f}%"
+    med = lambda a: f"{np.median(a):.2f}" if a else "-"
     extra = f" {med(errs or []):>8} {med(angs or []):>7}" if errs is not None else ""
     t = f" {np.median(ms):8.1f}" if ms else ""
     return f"  {label:<16} {n:>5} {pc('correct'):>8} {pc('foul'):>7} {pc('miss'):>7}{extra}{t}"

@@ -13,7 +13,13 @@ from rcl.camera import ImageError
 from rcl.vision import VisionError, find_wires
 from rcl.vision.ridge import find_wires_ridge, thin_sparse
 from rcl.vision.scenes import SLICES, draw_scene, random_tray, tags
-from rcl.vision.synth import FINGER_CLEARANCE_MM, GRASP_MM, TOUCH_MM, Wire, material_distance
+from rcl.vision.synth import (
+    FINGER_CLEARANCE_MM,
+    GRASP_MM,
+    TOUCH_MM,
+    Wire,
+    material_distance,
+)
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -143,7 +149,7 @@ def test_ridge_finds_a_lone_wire_end_its_direction_and_grasp(angle):
 
 
 def test_ridge_sees_a_red_wire_on_a_green_board_that_grey_levels_barely_tell_apart():
-    image, centre, d = straight_wire_image(30.0, colour=True)
+    image, centre, _d = straight_wire_image(30.0, colour=True)
     grey = image @ np.array([0.299, 0.587, 0.114])
     assert abs(np.median(grey[grey < np.median(grey) - 0.02]) - np.median(grey)) < 0.15  # little grey contrast
     res = find_wires_ridge(image, 4.0)
@@ -151,7 +157,7 @@ def test_ridge_sees_a_red_wire_on_a_green_board_that_grey_levels_barely_tell_apa
 
 
 def test_ridge_refuses_an_end_cut_by_the_frame_and_one_crowded_by_another_wire():
-    image, centre, d = straight_wire_image(0.0, tip_mm=(-10.0, 64.0))  # the tip beyond the left edge
+    image, _centre, _d = straight_wire_image(0.0, tip_mm=(-10.0, 64.0))  # the tip beyond the left edge
     res = find_wires_ridge(image, 4.0, enough=0)
     ends = [np.array(s.end) / 4.0 for s in res.candidates]
     assert all(e[0] > 20 for e in ends)  # only the far end, inside the frame, may be taken
@@ -228,7 +234,7 @@ def test_rcl_vision_uses_the_ridge_finder_unless_told(tmp_path):
 
     from rcl.cli import main
 
-    image, centre, d = straight_wire_image(20.0)
+    image, centre, _d = straight_wire_image(20.0)
     Image.fromarray((image * 255).round().astype(np.uint8)).save(tmp_path / "w.png")
     out = io.StringIO()
     with contextlib.redirect_stdout(out):

@@ -119,7 +119,7 @@ def contrast(work: np.ndarray, wppm: float) -> np.ndarray:
     from scipy import ndimage
 
     h, w, ch = work.shape
-    b = max(int(round(BOARD_BLOCK_MM * wppm)), 4)
+    b = max(round(BOARD_BLOCK_MM * wppm), 4)
     nby, nbx = max(h // b, 1), max(w // b, 1)
     bh, bw = h // nby, w // nbx
     sub = work[:nby * bh:3, :nbx * bw:3]
@@ -269,7 +269,8 @@ def centre_lines(strength: np.ndarray, smoothed: list, which: np.ndarray, wppm: 
 def thin_sparse(mask: np.ndarray) -> np.ndarray:
     """The binary system's thinning (its passes and tables) computed on the set pixels only:
     masks of thin lines cost what their pixels do, not what the image does."""
-    from .binary import NEIGHBOURS as PAPER_NEIGHBOURS, deletion_tables
+    from .binary import NEIGHBOURS as PAPER_NEIGHBOURS
+    from .binary import deletion_tables
 
     tables = deletion_tables()
     h, w = mask.shape
@@ -432,7 +433,7 @@ class _Graph:
     @property
     def _gap_window(self):
         if self._window is None:
-            reach = int(math.ceil(GAP_MM * self.wppm))
+            reach = math.ceil(GAP_MM * self.wppm)
             rr, cc = np.mgrid[-reach:reach + 1, -reach:reach + 1]
             dist = np.hypot(rr, cc)
             keep = (dist >= 1.5) & (dist <= reach)
@@ -586,7 +587,7 @@ class _EndReader:
         pts = end + steps[:, None, None] * out + lateral[None, :, None] * side
         v = self.sample(pts.reshape(-1, 2)).reshape(len(steps), len(lateral))
         rise = v[:, :3].mean(axis=1) - v[:, 3:].mean(axis=1)
-        n = max(int(round(CONDUCTOR_WINDOW_MM * mm * 2)), 1)
+        n = max(round(CONDUCTOR_WINDOW_MM * mm * 2), 1)
         mean = np.convolve(rise, np.ones(n) / n, mode="same")  # over the window centred on each step
         on = (mean >= CONDUCTOR_CONTRAST) & (rise >= 0.5 * CONDUCTOR_CONTRAST)
         off = np.flatnonzero(~on)
@@ -684,7 +685,7 @@ class _EndReader:
         # beside the span, something that goes on for RUN_MM along it (a speck of the board's
         # texture or a thin printed line does not)
         runs = hit[:nb].reshape(len(dense), -1)
-        need = max(int(round(RUN_MM * mm)), 2)
+        need = max(round(RUN_MM * mm), 2)
         if runs.shape[0] >= need:
             window = np.ones(need, int)
             longest = max(int(np.convolve(col.astype(int), window, mode="valid").max()) for col in runs.T)
@@ -739,7 +740,7 @@ def _disc_template(radius10: int) -> np.ndarray:
 
 def _disc(radius: float) -> np.ndarray:
     """Points 0.75 px apart filling a disc of the radius (px) round the origin."""
-    return _disc_template(int(round(radius * 10)))
+    return _disc_template(round(radius * 10))
 
 
 def _resample(pts: np.ndarray, step: float) -> np.ndarray:

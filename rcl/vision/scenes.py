@@ -113,7 +113,7 @@ def draw_scene(rng: np.random.Generator, slice: str | None = None) -> Scene:
         ppm = float(rng.uniform(2.5, min(6.0, min(w, h) / MIN_EXTENT_MM)))
     area = (w / ppm) * (h / ppm)
     most = float(np.clip(area / 500.0, 3, 25))  # at most a wire per 500 mm2 of tray
-    count = int(round(math.exp(rng.uniform(0.0, math.log(most)))))
+    count = round(math.exp(rng.uniform(0.0, math.log(most))))
     layers = int(rng.integers(1, 5))
     shapes = SHAPES
     thickness = (0.8, 3.0)
@@ -348,7 +348,7 @@ def finish(scene: Scene, img: np.ndarray, rng) -> np.ndarray:
         img = ndimage.gaussian_filter(img, (scene.blur_px, scene.blur_px, 0))
     if scene.motion_px > 0:
         axis = int(rng.integers(2))
-        img = ndimage.uniform_filter1d(img, max(int(round(scene.motion_px)) + 1, 2), axis=axis)
+        img = ndimage.uniform_filter1d(img, max(round(scene.motion_px) + 1, 2), axis=axis)
     if scene.noise > 0:
         img = img + rng.normal(0.0, scene.noise, img.shape).astype(np.float32)
     img = np.clip(img, 0.0, 1.0)
@@ -500,7 +500,7 @@ def _paint_wire(img: np.ndarray, wire: Wire, look: WireLook, scene: Scene) -> No
     rough = ndimage.distance_transform_edt(grid)
     region = img[r0:r1, c0:c1]
     if scene.shadow > 0:
-        sr, sc = int(round(shift[1])), int(round(shift[0]))
+        sr, sc = round(shift[1]), round(shift[0])
         shadow = np.clip((r + soft - np.roll(rough, (sr, sc), axis=(0, 1))) / (2 * soft), 0, 1)
         shadow = ndimage.gaussian_filter(shadow, soft * 0.5)
         region *= (1.0 - scene.shadow * shadow)[..., None]
