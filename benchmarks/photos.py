@@ -39,6 +39,7 @@ from pathlib import Path
 import numpy as np
 
 from rcl.vision import find_wires, load
+from rcl.vision.common import principal_direction
 from rcl.vision.synth import FINGER_CLEARANCE_MM, GRASP_MM, TOUCH_MM, End, Tray, Wire
 
 SPAN_MM = GRASP_MM + 5.0
@@ -223,7 +224,7 @@ def _inward(path: np.ndarray, reach: float) -> np.ndarray:
     if len(pts) < 3:
         d = path[-1] - path[0]
     else:
-        d = np.linalg.svd(pts - pts.mean(axis=0), full_matrices=False)[2][0]
+        d = principal_direction(pts)
         if d @ (pts[-1] - pts[0]) < 0:
             d = -d
     return d / max(float(np.linalg.norm(d)), 1e-9)

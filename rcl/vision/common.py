@@ -8,11 +8,12 @@ import numpy as np
 
 
 def block_average(grey: np.ndarray, k: int) -> np.ndarray:
-    """The mean of each k x k block (float32); a partial block at an edge is dropped."""
+    """The mean of each k x k block (float32); a partial block at an edge is dropped. A colour
+    image (rows, cols, channels) is averaged channel by channel."""
     if k == 1:
         return grey.astype(np.float32)
     h, w = grey.shape[0] // k * k, grey.shape[1] // k * k
-    out = np.zeros((h // k, w // k), np.float32)
+    out = np.zeros((h // k, w // k, *grey.shape[2:]), np.float32)
     for i in range(k):
         for j in range(k):
             out += grey[i:h:k, j:w:k]

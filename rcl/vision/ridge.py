@@ -17,8 +17,8 @@ only when what lies around it can be seen to be bare board.
    keeps its best scale; non-maximum suppression across the ridge and hysteresis
    leave the centre lines, thinned to one pixel.
 4. The wire graph: ends (one neighbour) and crossings (three or more); spurs shorter
-   than SPUR_MM are pruned; a gap of up to GAP_MM straight ahead of an end is
-   bridged when a centre line continues beyond it in the same direction.
+   than SPUR_MM are pruned; a trace jumps a break of up to GAP_MM to another line
+   end facing it; only ends on lines long enough to hold SPAN_MM are read.
 5. Each end: traced inward for SPAN_MM (a crossing on the way: it touches another
    wire); the wire's width measured across it; the tip followed outward along the
    contrast past the ridge's end (a rounded cap, a ferrule, stripped copper) to
@@ -39,7 +39,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..camera.images import ImageError
-from .common import Clock, principal_direction
+from .common import Clock, block_average, principal_direction
 from .sighting import Sighting
 
 GRASP_MM = 15.0  # the grasp point's distance from the tip, along the wire
@@ -104,11 +104,9 @@ def working_image(image: np.ndarray, px_per_mm: float) -> tuple[np.ndarray, int]
     h, w = a.shape[0] // k * k, a.shape[1] // k * k
     if h < 16 * k or w < 16 * k:
         raise ImageError(f"the image ({a.shape[1]} x {a.shape[0]} px) is too small to find wires in")
-    out = np.zeros((h // k, w // k, a.shape[2]), np.float32)
-    for i in range(k):
-        for j in range(k):
-            out += a[i:h:k, j:w:k]
-    out *= np.float32(scale / (k * k))
+    out = block_average(a[:h, :w], k)
+    if scale != 1.0:
+        out *= np.float32(scale)
     if not np.isfinite(out).all():
         raise ImageError("the image holds values that are not finite numbers (NaN or infinity)")
     return out, k
@@ -316,8 +314,7 @@ def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = EN
     graph.prune_spurs()
     result.skeleton = graph.skeleton
     clock("graph")
-    reader = _EndReader(f, fine, graph, wppm, k, result)
-    reader.flat = flat
+    reader = _EndReader(f, flat, fine, graph, wppm, k, result)
     ordered = graph.ends_in_order(f)
     for end in graph.short:
         reader.refuse(graph.rc(int(end)), "its line meets another or stops within 20 mm")
@@ -473,11 +470,11 @@ def _adjacent(a: int, b: int, W: int) -> bool:
 class _EndReader:
     """Reads one centre-line end: classify it, follow its tip, check it is free, make a Sighting."""
 
-    def __init__(self, f: np.ndarray, fine: np.ndarray, graph: _Graph, wppm: float, k: int,
+    def __init__(self, f: np.ndarray, flat: np.ndarray, fine: np.ndarray, graph: _Graph, wppm: float, k: int,
                  result: RidgeResult) -> None:
-        self.f = f
-        self.fine = fine
-        self.flat = f
+        self.f = f  # the contrast
+        self.flat = flat  # ... saturated: what centres the line
+        self.fine = fine  # the finest scale's ridge strength
         self.g = graph
         self.wppm = wppm
         self.k = k
@@ -744,6 +741,8 @@ def _disc(radius: float) -> np.ndarray:
 
 
 def _resample(pts: np.ndarray, step: float) -> np.ndarray:
+    """A polyline sampled every `step` along it, up to (not past) its length: unlike
+    synth.resample it never repeats the last point, so directions along it stay defined."""
     seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
     cum = np.concatenate([[0.0], np.cumsum(seg)])
     s = np.arange(0.0, cum[-1] + 1e-9, step)

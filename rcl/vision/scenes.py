@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .synth import Tray, Wire, ground_truth, resample
+from .synth import Tray, Wire, ground_truth, keep_apart, resample
 
 SLICES = ("sparse", "crossing", "low_contrast", "bright_on_dark", "stripped", "colour", "edge",
           "textured", "curly", "thin", "dense", "photographic", "plain_dark", "plain_bright")
@@ -214,8 +214,8 @@ def random_tray(seed: int, slice: str | None = None) -> Tray:
     extent = np.array([scene.width, scene.height]) / scene.px_per_mm
     wires = [random_wire(rng, scene, extent, i) for i in range(scene.count)]
     if scene.apart:
-        wires = _keep_apart(wires)
-    scene.looks = [_wire_look(rng, scene) for _ in wires]
+        wires = keep_apart(wires)
+    scene.looks = [wire_look(rng, scene) for _ in wires]
     for w, look in zip(wires, scene.looks):
         w.level = look.colour
         w.tip = max(look.tip_mm)
@@ -272,16 +272,6 @@ def random_wire(rng, scene: Scene, extent: np.ndarray, index: int) -> Wire:
     return Wire(centre, diameter, layer, (0.1,), 0.0)
 
 
-def _keep_apart(ws: list[Wire]) -> list[Wire]:
-    from scipy.spatial import cKDTree
-
-    kept: list[Wire] = []
-    for w in ws:
-        if all(cKDTree(k.centre).query(w.centre)[0].min() > (w.width + k.width) / 2 + 6.0 for k in kept):
-            kept.append(w)
-    return kept or ws[:1]
-
-
 def _board_colour(rng) -> tuple:
     palette = ((0.85, 0.85, 0.83), (0.62, 0.62, 0.6), (0.82, 0.74, 0.6), (0.6, 0.42, 0.25),
                (0.2, 0.45, 0.3), (0.25, 0.3, 0.55), (0.2, 0.2, 0.21), (0.08, 0.08, 0.08), (0.93, 0.93, 0.95))
@@ -289,7 +279,8 @@ def _board_colour(rng) -> tuple:
     return tuple(float(x) for x in np.clip(base + rng.normal(0, 0.04, 3), 0.02, 0.98))
 
 
-def _wire_look(rng, scene: Scene) -> WireLook:
+def wire_look(rng: np.random.Generator, scene: Scene) -> WireLook:
+    """A wire's insulation, ends and gloss, drawn so that it can be seen on the scene's board."""
     board = np.array(scene.board_colour)
     for _ in range(30):
         kind = str(rng.choice(scene.insulation))
@@ -375,11 +366,6 @@ def cell_scene(rng: np.random.Generator, size_px: int, px_per_mm: float, count: 
     scene.shadow = min(scene.shadow, 0.25)
     scene.slice = "cell"
     return scene
-
-
-def wire_look(rng: np.random.Generator, scene: Scene) -> WireLook:
-    """A wire's insulation, ends and gloss, drawn so that it can be seen on the scene's board."""
-    return _wire_look(rng, scene)
 
 
 def board(scene: Scene, rng) -> np.ndarray:

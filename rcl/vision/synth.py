@@ -102,7 +102,7 @@ def make_tray(kind: str = "sparse", seed: int = 0, size: int = 512, px_per_mm: f
         ws.append(random_wire(rng, extent, kind, layer=int(rng.integers(layers)) if layers > 1 else i,
                                colour=colour, dark_tray=dark_tray))
     if kind == "sparse":
-        ws = _keep_apart(ws, rng, extent)
+        ws = keep_apart(ws)
     image = render(ws, size, px_per_mm, kind, rng)
     tray = Tray(image, px_per_mm, ws, kind=kind)
     tray.ends = ground_truth(ws, extent)
@@ -138,19 +138,15 @@ def random_wire(rng, extent: float, kind: str, layer: int, colour: bool, dark_tr
     return Wire(centre, float(rng.uniform(1.6, 2.4)), layer, level, tip)
 
 
-def _keep_apart(ws: list[Wire], rng, extent: float) -> list[Wire]:
-    """For sparse trays: drop wires that touch an earlier one."""
-    kept: list[Wire] = []
-    for w in ws:
-        if all(_min_distance(w.centre, k.centre) > (w.width + k.width) / 2 + 6.0 for k in kept):
-            kept.append(w)
-    return kept or ws[:1]
-
-
-def _min_distance(a: np.ndarray, b: np.ndarray) -> float:
+def keep_apart(ws: list[Wire]) -> list[Wire]:
+    """For sparse trays: the wires that stay 6 mm clear of every earlier one kept."""
     from scipy.spatial import cKDTree
 
-    return float(cKDTree(b).query(a)[0].min())
+    kept: list[Wire] = []
+    for w in ws:
+        if all(cKDTree(k.centre).query(w.centre)[0].min() > (w.width + k.width) / 2 + 6.0 for k in kept):
+            kept.append(w)
+    return kept or ws[:1]
 
 
 def render(ws: list[Wire], size: int, px_per_mm: float, kind: str, rng, noise: float = 0.02) -> np.ndarray:
