@@ -46,8 +46,13 @@ GRASP_MM = 15.0  # the grasp point's distance from the tip, along the wire
 SPAN_MM = 20.0  # wire that must be free from the tip: the grasp point and 5 mm beyond
 CLEARANCE_MM = 4.6  # free board round the grasp point, from the centre line: the fingers' room
 SIDE_FREE_MM = 0.9  # free board beside the wire's edges along the span and beyond its tip
+SPAN_SLACK_MM = 2.0  # ... along the span and this much more: a wire crossing just past it touches it (tip and arc errors)
 BORDER_MM = 3.0  # a tip or span this close to the frame's edge may be cut by it
 SATURATION = 12.0  # contrast (spreads) beyond which a wire is simply there: highlights count no more
+SHADOW_LIGHT = (0.55, 0.97)  # a shadow leaves this share of the board's light: darker is a thing, lighter is board
+SHADOW_TINT = 2.0  # ... and adds no more other colour than this (spreads)
+SHADOW_LIKE_WIRE = 0.2  # a wire this much of whose centre line looks like shadow: shadows are not told from it
+SHADOW_SIDE = 0.3  # ... and one that casts one: so much of the board along one side of it looks like shadow
 MIN_SPREAD = 0.012  # the least board spread believed (3 grey levels): JPEG and sensor noise at the least
 BOARD_BLOCK_MM = 8.0  # blocks in which the board's colour is estimated
 SCALES_MM = (0.35, 0.7, 1.2)  # Gaussian sigmas matched to wire diameters ~0.8, 1.6 and 3 mm
@@ -112,8 +117,22 @@ def working_image(image: np.ndarray, px_per_mm: float) -> tuple[np.ndarray, int]
     return out, k
 
 
-def contrast(work: np.ndarray, wppm: float) -> np.ndarray:
-    """F: each pixel's distance in colour from the board there, in units of the board's spread."""
+@dataclass
+class Contrast:
+    """F, each pixel's distance in colour from the board there in units of the board's spread,
+    with what it was made of: the working image, the board's colour under each pixel, and the
+    factor (per channel) that turns a colour difference into F's units."""
+
+    f: np.ndarray
+    work: np.ndarray
+    board: np.ndarray
+    unit: np.ndarray
+
+
+def contrast(work: np.ndarray, wppm: float) -> Contrast:
+    """The contrast F: the board's colour estimated per BOARD_BLOCK_MM block (the median, then the
+    median of 3 x 3 blocks, so blocks full of wire are outvoted), subtracted, each channel divided
+    by its own robust spread, then the root mean square over the channels."""
     from scipy import ndimage
 
     h, w, ch = work.shape
@@ -129,17 +148,36 @@ def contrast(work: np.ndarray, wppm: float) -> np.ndarray:
     # bilinear enlargement by two small matrix products per channel
     ay = _interp_matrix(h, nby, bh)
     ax = _interp_matrix(w, nbx, bw)
-    diff = np.empty_like(work)
+    under = np.empty_like(work)
     for c in range(ch):
-        diff[:, :, c] = work[:, :, c] - ay @ board[:, :, c] @ ax.T
+        under[:, :, c] = ay @ board[:, :, c] @ ax.T
+    diff = work - under
     spread = np.maximum(1.4826 * np.median(np.abs(diff[::4, ::4].reshape(-1, ch)), axis=0), MIN_SPREAD)
-    diff *= (1.0 / (spread * np.sqrt(ch))).astype(np.float32)
+    unit = (1.0 / (spread * np.sqrt(ch))).astype(np.float32)
+    diff *= unit
     if ch == 1:
-        return np.abs(diff[:, :, 0])
+        return Contrast(np.abs(diff[:, :, 0]), work, under, unit)
     f = diff[:, :, 0] * diff[:, :, 0]
     for c in range(1, ch):
         f += diff[:, :, c] * diff[:, :, c]
-    return np.sqrt(f)
+    return Contrast(np.sqrt(f), work, under, unit)
+
+
+def shadow_free(con: Contrast, pts: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(F at pts with what looks like the board in shadow counted as board, which points look so).
+
+    A shadow darkens the board and keeps its colour: a pixel that is SHADOW_LIGHT of the board's
+    colour under it, give or take SHADOW_TINT (spreads) of other colour, is board in shadow; its
+    contrast is then only that other colour. In a grey image every such darkening looks so."""
+    from scipy import ndimage
+
+    ch = con.work.shape[2]
+    p = np.stack([ndimage.map_coordinates(con.work[:, :, c], pts.T, order=1, mode="nearest") for c in range(ch)], 1)
+    b = np.stack([ndimage.map_coordinates(con.board[:, :, c], pts.T, order=1, mode="nearest") for c in range(ch)], 1)
+    light = (p * b).sum(axis=1) / np.maximum((b * b).sum(axis=1), 1e-9)
+    tint = np.sqrt((((p - light[:, None] * b) * con.unit) ** 2).sum(axis=1))
+    shade = (light >= SHADOW_LIGHT[0]) & (light <= SHADOW_LIGHT[1]) & (tint < SHADOW_TINT)
+    return np.where(shade, tint, f), shade
 
 
 def _interp_matrix(n: int, blocks: int, size: int) -> np.ndarray:
@@ -261,6 +299,10 @@ def centre_lines(strength: np.ndarray, smoothed: list, which: np.ndarray, wppm: 
     strong &= size >= MIN_LINE_MM * wppm * 0.7
     strong[0] = False
     lines = strong[labels]
+    # a ridge's end may fork round a pixel (a rounded cap): fill such one-pixel holes, or thinning
+    # keeps them as a tiny loop and the end is lost
+    hole = ~lines[1:-1, 1:-1] & lines[:-2, 1:-1] & lines[2:, 1:-1] & lines[1:-1, :-2] & lines[1:-1, 2:]
+    lines[1:-1, 1:-1] |= hole
     return thin_sparse(lines)
 
 
@@ -303,7 +345,8 @@ def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = EN
     wppm = px_per_mm / k
     result.scale = k
     clock("average")
-    f = contrast(work, wppm)
+    con = contrast(work, wppm)
+    f = con.f
     clock("contrast")
     flat = SATURATION * np.tanh(f * (1.0 / SATURATION))  # a wire's body, not its highlight, makes the ridge
     strength, smoothed, which, fine = ridges(flat, wppm)
@@ -314,7 +357,7 @@ def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = EN
     graph.prune_spurs()
     result.skeleton = graph.skeleton
     clock("graph")
-    reader = _EndReader(f, flat, fine, graph, wppm, k, result)
+    reader = _EndReader(con, flat, fine, graph, wppm, k, result)
     ordered = graph.ends_in_order(f)
     for end in graph.short:
         reader.refuse(graph.rc(int(end)), "its line meets another or stops within 20 mm")
@@ -470,16 +513,18 @@ def _adjacent(a: int, b: int, W: int) -> bool:
 class _EndReader:
     """Reads one centre-line end: classify it, follow its tip, check it is free, make a Sighting."""
 
-    def __init__(self, f: np.ndarray, flat: np.ndarray, fine: np.ndarray, graph: _Graph, wppm: float, k: int,
+    def __init__(self, con: Contrast, flat: np.ndarray, fine: np.ndarray, graph: _Graph, wppm: float, k: int,
                  result: RidgeResult) -> None:
-        self.f = f  # the contrast
+        self.con = con
+        self.f = con.f  # the contrast
         self.flat = flat  # ... saturated: what centres the line
         self.fine = fine  # the finest scale's ridge strength
         self.g = graph
         self.wppm = wppm
         self.k = k
         self.result = result
-        self.h, self.w = f.shape
+        self.h, self.w = self.f.shape
+        self.shadows = False  # whether shadows round the wire being read are told from things (set by read)
 
     def refuse(self, at, why: str) -> None:
         r, c = at
@@ -489,6 +534,12 @@ class _EndReader:
         from scipy import ndimage
 
         return ndimage.map_coordinates(self.f if of is None else of, pts.T, order=1, mode="nearest")
+
+    def around(self, pts: np.ndarray) -> np.ndarray:
+        """The contrast at points round the wire (not on it): shadows on the board count as board
+        unless the wire being read looks like a shadow itself."""
+        f = self.sample(pts)
+        return shadow_free(self.con, pts, f)[0] if self.shadows else f
 
     def read(self, end: int):
         g, mm = self.g, self.wppm
@@ -515,6 +566,7 @@ class _EndReader:
         level = float(np.median(core))
         board = max(BOARD_FLOOR, BOARD_SHARE * level)
         width = self.width(line, board)
+        self.shadows = self.casts_shadow(line, core, width)
         # the tip: from inside the wire, follow the contrast outward along the centre line and on
         # past the ridge's end (which smoothing may carry beyond the wire) to where it drops
         out = -inward
@@ -527,10 +579,12 @@ class _EndReader:
         side = np.array([-out[1], out[0]])
         lateral = np.array([-0.25, 0.0, 0.25]) * width
         ray = scan[:, None, :] + lateral[None, :, None] * side
-        along = self.sample(ray.reshape(-1, 2)).reshape(len(scan), len(lateral)).max(axis=1)
+        raw = self.sample(ray.reshape(-1, 2)).reshape(len(scan), len(lateral)).max(axis=1)
+        along = self.around(ray.reshape(-1, 2)).reshape(len(scan), len(lateral)).max(axis=1)
         thin = self.sample(ray.reshape(-1, 2), self.fine).reshape(len(scan), len(lateral)).max(axis=1)
-        # the wire goes on while it stands out as the insulation does, or as a thin conductor does:
-        # a faint but sharp ridge on the axis (a shadow or a blur is faint and broad)
+        # the wire goes on while it stands out as the insulation does (shadows on the board do not
+        # count), or as a thin conductor does: a faint but sharp ridge on the axis (a shadow or a
+        # blur is faint and broad; tin or a ferrule may have the colour of a shadow)
         conductor = (along >= BOARD_FLOOR) & (thin >= CONDUCTOR_RIDGE)
         below = (along < board) & ~conductor
         along = np.where(conductor & (along < board), board, along)
@@ -573,6 +627,24 @@ class _EndReader:
         grasp = self.centred(grasp, tangent, width)
         return self.sighting(on_axis, inward, grasp, tangent, level, width)
 
+    def casts_shadow(self, line: np.ndarray, core: np.ndarray, width: float) -> bool:
+        """Whether the wire casts a shadow that can be told from it: its own centre line does not
+        look like board in shadow, and the board along one side of it does, much more than along
+        the other (a light from one side)."""
+        if float(shadow_free(self.con, line, core)[1].mean()) >= SHADOW_LIKE_WIRE or len(line) < 5:
+            return False
+        t = np.gradient(line, axis=0)
+        t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-9)
+        n = np.column_stack([-t[:, 1], t[:, 0]])
+        offs = width / 2 + np.array([0.6, 1.0]) * self.wppm  # past the blur of the wire's edge
+        share = []
+        for sign in (-1.0, 1.0):
+            pts = (line[:, None, :] + sign * offs[None, :, None] * n[:, None, :]).reshape(-1, 2)
+            f = self.sample(pts)
+            share.append(float((shadow_free(self.con, pts, f)[1] & (f >= BOARD_FLOOR)).mean()))
+        # a blurred edge looks like shadow on both sides alike
+        return max(share) >= SHADOW_SIDE and min(share) <= 0.5 * max(share)
+
     def conductor(self, end: np.ndarray, out: np.ndarray, width: float) -> np.ndarray:
         """The tip of a faint conductor or ferrule running on straight past the insulation's end
         (end), or end itself if there is none: where the contrast on the axis, averaged over
@@ -582,7 +654,12 @@ class _EndReader:
         side = np.array([-out[1], out[0]])
         lateral = np.array([-0.2 * width, 0.0, 0.2 * width, -(width / 2 + mm), width / 2 + mm])
         pts = end + steps[:, None, None] * out + lateral[None, :, None] * side
-        v = self.sample(pts.reshape(-1, 2)).reshape(len(steps), len(lateral))
+        flat_pts = pts.reshape(-1, 2)
+        v = self.sample(flat_pts)
+        if self.shadows:  # board in shadow beyond the tip is no conductor, unless a sharp ridge runs on it
+            free, shade = shadow_free(self.con, flat_pts, v)
+            v = np.where(shade & (self.sample(flat_pts, self.fine) < CONDUCTOR_RIDGE), free, v)
+        v = v.reshape(len(steps), len(lateral))
         rise = v[:, :3].mean(axis=1) - v[:, 3:].mean(axis=1)
         n = max(round(CONDUCTOR_WINDOW_MM * mm * 2), 1)
         mean = np.convolve(rise, np.ones(n) / n, mode="same")  # over the window centred on each step
@@ -651,27 +728,28 @@ class _EndReader:
         mm = self.wppm
         half = width / 2
         dense = _resample(full, 1.0)
-        # beside the span, both sides
+        ds = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))])
+        # beside the span (its first SPAN_MM: what lies beside the wire further on is no matter), both sides
         t = np.gradient(dense, axis=0)
         t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-9)
         n = np.column_stack([-t[:, 1], t[:, 0]])
+        span = ds <= (SPAN_MM + SPAN_SLACK_MM) * mm
         offs = half + np.array([0.6, 0.9, 1.2]) * SIDE_FREE_MM * mm
-        band = (dense[:, None, None, :] + (np.array([-1, 1])[None, :, None, None] * offs[None, None, :, None])
-                * n[:, None, None, :]).reshape(-1, 2)
+        band = (dense[span, None, None, :] + (np.array([-1, 1])[None, :, None, None] * offs[None, None, :, None])
+                * n[span, None, None, :]).reshape(-1, 2)
         # beyond the tip
         dirs = _fan(out)
         cap = (tip[None, None, :] + (half + np.array([0.7, 1.0, 1.4, 2.0, 2.8]) * SIDE_FREE_MM * mm)[None, :, None]
                * dirs[:, None, :]).reshape(-1, 2)
         # the disc round the grasp point, less the wire itself (its centre line near the grasp point)
         disc = _disc(CLEARANCE_MM * mm) + grasp
-        ds = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))])
         local = dense[np.abs(ds - GRASP_MM * mm) <= (CLEARANCE_MM + 3.0) * mm]
         if len(local):
             d2 = ((disc[:, None, :] - local[None, :, :]) ** 2).sum(axis=2).min(axis=1)
             disc = disc[d2 > (half + 0.6 * SIDE_FREE_MM * mm) ** 2]
         pts = np.vstack((band, cap, disc))
         inside = (pts[:, 0] >= 0) & (pts[:, 1] >= 0) & (pts[:, 0] <= self.h - 1) & (pts[:, 1] <= self.w - 1)
-        values = self.sample(pts)
+        values = self.around(pts)
         hit = (values >= board) & inside
         nb, nc = len(band), len(cap)
         # straight on past the tip, even a faint contrast that goes on is the wire going on into
@@ -681,7 +759,7 @@ class _EndReader:
             return "its contrast fades but goes on past its end"
         # beside the span, something that goes on for RUN_MM along it (a speck of the board's
         # texture or a thin printed line does not)
-        runs = hit[:nb].reshape(len(dense), -1)
+        runs = hit[:nb].reshape(int(span.sum()), -1)
         need = max(round(RUN_MM * mm), 2)
         if runs.shape[0] >= need:
             window = np.ones(need, int)
