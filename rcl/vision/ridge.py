@@ -579,7 +579,6 @@ class _EndReader:
         side = np.array([-out[1], out[0]])
         lateral = np.array([-0.25, 0.0, 0.25]) * width
         ray = scan[:, None, :] + lateral[None, :, None] * side
-        raw = self.sample(ray.reshape(-1, 2)).reshape(len(scan), len(lateral)).max(axis=1)
         along = self.around(ray.reshape(-1, 2)).reshape(len(scan), len(lateral)).max(axis=1)
         thin = self.sample(ray.reshape(-1, 2), self.fine).reshape(len(scan), len(lateral)).max(axis=1)
         # the wire goes on while it stands out as the insulation does (shadows on the board do not
