@@ -66,12 +66,14 @@ GAP_CONE_DEG = 30.0
 TIP_MAX_MM = 12.0  # the longest ferrule or stripped conductor followed past the insulation
 CONDUCTOR_RIDGE = 1.5  # the finest scale's ridge strength that marks a thin conductor
 CONDUCTOR_CONTRAST = 1.2  # a faint conductor: its axis this far (spreads) above the board beside it
+CONDUCTOR_MIN_MM = 2.5  # ... at least this long (a shorter one is the blur or the shadow of the end)
 CONDUCTOR_WINDOW_MM = 1.0  # ... on average over this much of its length
 TIP_START_MM = 10.0  # the search for the tip starts this far in along the centre line: on the insulation
 END_FIT_MM = 8.0  # the end's direction is fitted over this much of the centre line
 END_SKIP_MM = 1.0  # ... less its first mm, where a ridge's end may hook
 TANGENT_MM = 2.5  # the tangent at the grasp point: over this much either side
 BOARD_FLOOR = 4.0  # contrast (spreads) below which a pixel may be bare board, whatever the wire
+TIP_SHARE = 0.5  # the tip: where the contrast falls below half the wire's (a blurred edge's middle; a shadow is fainter)
 BOARD_SHARE = 0.3  # ... and below this share of the wire's own contrast
 FADE_SHARE = 0.12  # straight past a tip, this share of the wire's contrast still means wire
 FADE_FLOOR = 2.5  # ... and so does this much (spreads): bare board beyond an end is darker than that
@@ -585,8 +587,9 @@ class _EndReader:
         # count), or as a thin conductor does: a faint but sharp ridge on the axis (a shadow or a
         # blur is faint and broad; tin or a ferrule may have the colour of a shadow)
         conductor = (along >= BOARD_FLOOR) & (thin >= CONDUCTOR_RIDGE)
-        below = (along < board) & ~conductor
-        along = np.where(conductor & (along < board), board, along)
+        edge = max(BOARD_FLOOR, TIP_SHARE * level)
+        below = (along < edge) & ~conductor
+        along = np.where(conductor & (along < edge), edge, along)
         gone = np.flatnonzero(below[:-1] & below[1:])
         if not gone.size:
             return self.refuse(start, "its contrast runs on past its end (under or into something)")
@@ -594,7 +597,7 @@ class _EndReader:
         if i == 0:
             return self.refuse(start, "no wire to be seen at its end")
         a, b = along[i - 1], along[i]
-        frac = float(np.clip((a - board) / max(a - b, 1e-6), 0, 1))
+        frac = float(np.clip((a - edge) / max(a - b, 1e-6), 0, 1))
         tip_s = scan_s[i - 1] + frac * (scan_s[i] - scan_s[i - 1])
         tip = np.array([np.interp(tip_s, es, ext[:, 0]), np.interp(tip_s, es, ext[:, 1])])
         tip = self.conductor(tip, out, width)
@@ -665,8 +668,8 @@ class _EndReader:
         on = (mean >= CONDUCTOR_CONTRAST) & (rise >= 0.5 * CONDUCTOR_CONTRAST)
         off = np.flatnonzero(~on)
         run = int(off[0]) if off.size else len(on)
-        if run < n:
-            return end  # nothing that runs on for a window's length: the blur of the end itself
+        if run < n or steps[run - 1] < CONDUCTOR_MIN_MM * mm:
+            return end  # nothing that runs on far enough: the blur of the end itself, or its shadow
         return end + out * steps[run - 1]
 
     def recentred(self, line: np.ndarray, width: float) -> np.ndarray:
