@@ -17,7 +17,9 @@ from rcl.vision.synth import (
     FINGER_CLEARANCE_MM,
     GRASP_MM,
     TOUCH_MM,
+    Thing,
     Wire,
+    ground_truth,
     material_distance,
 )
 
@@ -64,6 +66,19 @@ def test_every_slice_draws_what_it_names(name):
         draw_scene(rng, "nonsense")
 
 
+def filled(thing, step):
+    """Points every `step` mm filling a Thing (its disc or its box), for a brute-force distance."""
+    if thing.centre is not None:
+        r = thing.radius
+        a, b = np.meshgrid(np.arange(-r, r + 1e-9, step), np.arange(-r, r + 1e-9, step))
+        keep = a * a + b * b <= r * r
+        return np.column_stack([a[keep], b[keep]]) + thing.centre
+    xs = np.arange(thing.lo[0], thing.hi[0] + 1e-9, step)
+    ys = np.arange(thing.lo[1], thing.hi[1] + 1e-9, step)
+    a, b = np.meshgrid(xs, ys)
+    return np.column_stack([a.ravel(), b.ravel()])
+
+
 def test_ground_truth_agrees_with_an_independent_check_of_every_end():
     # each end's verdict recomputed by brute force from densely sampled centre lines
     for seed in range(8):
@@ -86,6 +101,40 @@ def test_ground_truth_agrees_with_an_independent_check_of_every_end():
                 assert not e.graspable, (seed, e)
             if e.graspable:
                 assert e.why == ""
+    # the rim and the clutter drawn at the frame's edge: no end that touches them is free
+    things = touching = 0
+    for seed in (13, 20, 21, 22, 26, 27, 28):  # trays with a rim or clutter
+        tray = random_tray(seed)
+        things += len(tray.scene.things)
+        touching += sum("touches" in e.why and "wire" not in e.why for e in tray.ends)
+        for e in tray.ends:
+            w = tray.wires[e.wire]
+            span = np.array([w.point_at(e.end, s) for s in np.arange(0.0, GRASP_MM + 5.0, 0.25)])
+            g = w.point_at(e.end, GRASP_MM)
+            for t in tray.scene.things:
+                inside = filled(t, 0.25)
+                inside = inside[np.linalg.norm(inside - e.point, axis=1) < GRASP_MM + 5.0 + FINGER_CLEARANCE_MM + 2.0]
+                if not len(inside):
+                    continue
+                near = np.min(np.linalg.norm(span[:, None] - inside[None], axis=2))
+                if near < w.width / 2 + TOUCH_MM - 0.3 or np.min(np.linalg.norm(inside - g, axis=1)) < FINGER_CLEARANCE_MM - 0.3:
+                    assert not e.graspable, (seed, e, t)
+    assert things >= 7 and touching >= 5
+
+
+def test_things_on_the_tray_are_measured_from_their_edges():
+    disc = Thing("a screw", centre=np.array([10.0, 10.0]), radius=2.0)
+    box = Thing("the rim", lo=np.array([0.0, 0.0]), hi=np.array([5.0, 40.0]))
+    pts = np.array([[10.0, 10.0], [13.0, 14.0], [10.0, 12.0]])
+    assert np.allclose(disc.distance(pts), [0.0, 3.0, 0.0])
+    assert np.allclose(box.distance(np.array([[2.0, 3.0], [8.0, 20.0], [8.0, 44.0]])), [0.0, 3.0, 5.0])
+    # a wire whose end lies against a screw is not free; moved 6 mm away it is
+    w = Wire(np.array([[20.0, 30.0]]) + np.arange(0, 40.0, 0.5)[:, None] * np.array([[1.0, 0.0]]), 1.5, 0, (0.1,))
+    screw = Thing("a screw", centre=np.array([17.5, 30.0]), radius=1.5)
+    ends = ground_truth([w], (100.0, 100.0), [screw])
+    assert not ends[0].graspable and "touches a screw" in ends[0].why and ends[1].graspable
+    screw.centre = np.array([12.0, 30.0])
+    assert ground_truth([w], (100.0, 100.0), [screw])[0].graspable
 
 
 def test_the_wires_are_drawn_where_the_ground_truth_says():

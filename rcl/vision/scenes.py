@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .synth import Tray, Wire, ground_truth, keep_apart, resample
+from .synth import Thing, Tray, Wire, ground_truth, keep_apart, resample
 
 SLICES = ("sparse", "crossing", "low_contrast", "bright_on_dark", "stripped", "colour", "edge",
           "textured", "curly", "thin", "dense", "photographic", "plain_dark", "plain_bright")
@@ -96,6 +96,7 @@ class Scene:
     apart: bool  # wires kept clear of each other (sparse)
     slice: str = ""
     looks: list = field(default_factory=list)
+    things: list = field(default_factory=list)  # synth.Thing: the rim and clutter as drawn
 
 
 def draw_scene(rng: np.random.Generator, slice: str | None = None) -> Scene:
@@ -221,7 +222,7 @@ def random_tray(seed: int, slice: str | None = None) -> Tray:
         w.tip = max(look.tip_mm)
     image = render(scene, wires, rng)
     tray = Tray(image, scene.px_per_mm, wires, kind=slice or "random")
-    tray.ends = ground_truth(wires, extent)
+    tray.ends = ground_truth(wires, extent, scene.things)
     tray.scene = scene  # type: ignore[attr-defined]
     return tray
 
@@ -428,6 +429,9 @@ def _rim(img: np.ndarray, scene: Scene, rng) -> None:
         k = int(rng.uniform(0.03, 0.08) * (h if side < 2 else w))
         sl = {0: np.s_[:k], 1: np.s_[h - k:], 2: np.s_[:, :k], 3: np.s_[:, w - k:]}[int(side)]
         img[sl] = level
+        x0, y0, x1, y1 = {0: (0, 0, w, k), 1: (0, h - k, w, h), 2: (0, 0, k, h), 3: (w - k, 0, w, h)}[int(side)]
+        ppm = scene.px_per_mm
+        scene.things.append(Thing("the tray's rim", lo=np.array([x0, y0]) / ppm, hi=np.array([x1, y1]) / ppm))
 
 
 def _clutter(img: np.ndarray, scene: Scene, rng) -> None:
@@ -447,6 +451,7 @@ def _clutter(img: np.ndarray, scene: Scene, rng) -> None:
     cover = np.clip(r - np.hypot(xx - cu, yy - cv) + 0.5, 0, 1)[..., None]
     level = np.array(_board_colour(rng), np.float32)
     img[r0:r1, c0:c1] = img[r0:r1, c0:c1] * (1 - cover) + level * cover
+    scene.things.append(Thing("something else on the tray", centre=np.array([cu, cv]) / ppm, radius=r / ppm))
 
 
 def _paint_wire(img: np.ndarray, wire: Wire, look: WireLook, scene: Scene) -> None:

@@ -236,9 +236,31 @@ def resample(pts: np.ndarray, step: float) -> np.ndarray:
     return np.stack([np.interp(s, cum, pts[:, 0]), np.interp(s, cum, pts[:, 1])], axis=1)
 
 
-def ground_truth(ws: list[Wire], extent) -> list[End]:
+@dataclass
+class Thing:
+    """Something on the tray that is not a wire (a screw, a blob of glue, the tray's rim): an end
+    that touches it, or a grasp point near it, is not free. A disc (centre, radius) or a box
+    (lo, hi corners), in mm."""
+
+    name: str
+    centre: np.ndarray | None = None
+    radius: float = 0.0
+    lo: np.ndarray | None = None
+    hi: np.ndarray | None = None
+
+    def distance(self, points: np.ndarray) -> np.ndarray:
+        """Each point's distance (mm) to the thing (0 inside)."""
+        points = np.atleast_2d(points)
+        if self.centre is not None:
+            return np.maximum(np.linalg.norm(points - self.centre, axis=1) - self.radius, 0.0)
+        assert self.lo is not None and self.hi is not None
+        outside = np.maximum(np.maximum(self.lo - points, points - self.hi), 0.0)
+        return np.linalg.norm(outside, axis=1)
+
+
+def ground_truth(ws: list[Wire], extent, things: tuple | list = ()) -> list[End]:
     """Every wire end, and whether a gripper could take it; extent is the image's size in mm
-    (a number for a square image, or (width, height))."""
+    (a number for a square image, or (width, height)); things are what else lies on the tray."""
     extent = np.broadcast_to(np.asarray(extent, float), (2,))
     ends = []
     for i, w in enumerate(ws):
@@ -246,7 +268,7 @@ def ground_truth(ws: list[Wire], extent) -> list[End]:
             p = w.point_at(e, 0.0)
             d = w.point_at(e, 1.0) - p
             d = d / max(np.linalg.norm(d), 1e-9)
-            ok, why = _graspable(ws, i, e, extent)
+            ok, why = _graspable(ws, i, e, extent, things)
             ends.append(End(i, e, p, d, ok, why))
     return ends
 
@@ -275,7 +297,7 @@ def material_distance(wire: Wire, points: np.ndarray) -> np.ndarray:
     return out
 
 
-def _graspable(ws: list[Wire], i: int, end: int, extent: np.ndarray) -> tuple[bool, str]:
+def _graspable(ws: list[Wire], i: int, end: int, extent: np.ndarray, things=()) -> tuple[bool, str]:
     w = ws[i]
     span = np.array([w.point_at(end, s) for s in np.arange(0.0, GRASP_MM + 5.0, 0.5)])
     if np.any(span < END_MARGIN_MM) or np.any(span > extent - END_MARGIN_MM):
@@ -288,6 +310,11 @@ def _graspable(ws: list[Wire], i: int, end: int, extent: np.ndarray) -> tuple[bo
         if material_distance(rest, span).min() < w.width / 2 + TOUCH_MM:
             return False, "it crosses or touches itself near its end"
         if material_distance(rest, grasp[None, :])[0] < FINGER_CLEARANCE_MM:
+            return False, "no room for the fingers at the grasp point"
+    for thing in things:
+        if thing.distance(span).min() - w.width / 2 < TOUCH_MM:
+            return False, f"it touches {thing.name} near its end"
+        if thing.distance(grasp[None, :])[0] < FINGER_CLEARANCE_MM:
             return False, "no room for the fingers at the grasp point"
     for j, other in enumerate(ws):
         if j == i:
