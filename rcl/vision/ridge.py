@@ -305,7 +305,25 @@ def centre_lines(strength: np.ndarray, smoothed: list, which: np.ndarray, wppm: 
     # keeps them as a tiny loop and the end is lost
     hole = ~lines[1:-1, 1:-1] & lines[:-2, 1:-1] & lines[2:, 1:-1] & lines[1:-1, :-2] & lines[1:-1, 2:]
     lines[1:-1, 1:-1] |= hole
-    return thin_sparse(lines)
+    return minimal(thin_sparse(lines))
+
+
+def minimal(mask: np.ndarray) -> np.ndarray:
+    """The thinned lines with their corners cut: a pixel whose two 4-neighbours at a right angle
+    are joined diagonally anyway, and that has nothing on the far side, is dropped. Thinning may
+    leave such a pixel as a little triangle where lines meet or a ridge end forks, and that reads
+    as a crossing."""
+    h, w = mask.shape
+    W = w + 2
+    grid = np.zeros((h + 2) * W, bool)
+    grid.reshape(h + 2, W)[1:-1, 1:-1] = mask
+    n, e, s, west = -W, 1, W, -1
+    for a, b in ((n, e), (e, s), (s, west), (west, n)):
+        on = np.flatnonzero(grid)
+        far = -(a + b)  # the diagonal opposite the corner
+        cut = grid[on + a] & grid[on + b] & ~grid[on + far] & ~grid[on - a] & ~grid[on - b]
+        grid[on[cut]] = False
+    return grid.reshape(h + 2, W)[1:-1, 1:-1].copy()
 
 
 def thin_sparse(mask: np.ndarray) -> np.ndarray:
@@ -443,6 +461,8 @@ class _Graph:
             path, how = self.trace(int(e), limit)
             if how == "crossing":
                 self.flat[path[:-1] if len(path) > 1 else path] = False
+        # a whisker gone may leave a corner where it joined
+        self.flat = np.pad(minimal(self.skeleton), 1).ravel()
         self._count()
 
     def across_gap(self, path: list[int]) -> int | None:
