@@ -684,7 +684,9 @@ class _EndReader:
         v = v.reshape(len(steps), len(lateral))
         rise = v[:, :3].mean(axis=1) - v[:, 3:].mean(axis=1)
         n = max(round(CONDUCTOR_WINDOW_MM * mm * 2), 1)
-        mean = np.convolve(rise, np.ones(n) / n, mode="same")  # over the window centred on each step
+        from scipy import ndimage
+
+        mean = ndimage.uniform_filter1d(rise, n, mode="nearest")  # over the window centred on each step
         on = (mean >= CONDUCTOR_CONTRAST) & (rise >= 0.5 * CONDUCTOR_CONTRAST)
         off = np.flatnonzero(~on)
         run = int(off[0]) if off.size else len(on)
