@@ -264,9 +264,9 @@ def first_picks(method: str, seeds) -> dict:
 
 def test_ridge_on_randomized_trays_it_was_not_tuned_on():
     # 40 trays at seeds the finder was not tuned on (tuning used seeds below 2000); measured
-    # 31 correct, 5 foul, 4 miss when written: the bars fail on a real regression
+    # 33 correct, 3 foul, 4 miss (31 / 5 / 4 a version earlier): the bars fail on a real regression
     c = first_picks("ridge", range(7000, 7040))
-    assert c["correct"] >= 27 and c["foul"] <= 7, c
+    assert c["correct"] >= 31 and c["foul"] <= 5, c
 
 
 def test_ridge_beats_the_papers_systems_on_randomized_trays():
