@@ -77,12 +77,18 @@ def test_step_budget_option(write):
 
 def test_ctrl_c_stops_a_run_cleanly_with_exit_130(write):
     p = write("forever.rcl", "WRITELN('looping')\nWHILE TRUE DO x := 1 END\n")
+    env = dict(os.environ, PYTHONFAULTHANDLER="1")  # if it ever hangs, SIGABRT shows where
     proc = subprocess.Popen([sys.executable, "-m", "rcl", "run", str(p)], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, stdin=subprocess.DEVNULL)
+                            stderr=subprocess.PIPE, text=True, stdin=subprocess.DEVNULL, env=env)
     assert proc.stdout.readline() == "looping\n"
     time.sleep(0.3)
     proc.send_signal(signal.SIGINT)
-    out, err = proc.communicate(timeout=20)
+    try:
+        out, err = proc.communicate(timeout=20)
+    except subprocess.TimeoutExpired:
+        proc.send_signal(signal.SIGABRT)
+        out, err = proc.communicate(timeout=20)
+        raise AssertionError("rcl run did not stop on Ctrl-C; where it was:\n" + err) from None
     assert proc.returncode == 130
     assert "interrupted" in err and "robot was halted" in err and "Traceback" not in err
 
