@@ -43,6 +43,7 @@ EDGE_FACTOR = 4.0
 TANGENT_PX = 4  # the paper takes +-2 skeletal points; at ~1 mm per pixel that quantises to tens of degrees
 END_PX = 6  # likewise the end direction: from the end to the point 6 px in (the paper: 3)
 BORDER_PX = 2  # skeleton ends this close to the border of the averaged image are cut by it
+FRAME_MARGIN_MM = 3.0  # deviation: an end, or the wire near it, this close to the frame may be cut by it
 
 # The 3x3 neighbours, numbered as in the paper: 1 = E, then anticlockwise to 8 = SE.
 # (row, column) offsets; rows grow downwards, so N is row - 1.
@@ -306,9 +307,13 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
                 end_uv = (float(tip[1]), float(tip[0]))
                 inward = np.array([u0 - end_uv[0], v0 - end_uv[1]])
                 du, dv = -inward / max(float(np.linalg.norm(inward)), 1e-9)
-        if not (0 <= end_uv[0] < looks.grey.shape[1] - BORDER_PX * k
-                and 0 <= end_uv[1] < looks.grey.shape[0] - BORDER_PX * k):
-            continue  # the wire runs on to the border: not an end
+        margin = FRAME_MARGIN_MM * px_per_mm
+        if not (margin <= end_uv[0] < looks.grey.shape[1] - margin and margin <= end_uv[1] < looks.grey.shape[0] - margin):
+            continue  # the wire runs on to the border, or may: not an end
+        span = np.array(path[:need], float)
+        if (span.min() < FRAME_MARGIN_MM / mm or span[:, 0].max() >= h - FRAME_MARGIN_MM / mm
+                or span[:, 1].max() >= w - FRAME_MARGIN_MM / mm):
+            continue  # the wire near its end may leave the picture and come back: not seen whole
         # how far the end lies beyond the skeleton's end, along the wire
         ru, rv = _to_input(c, r, k)
         beyond_mm = ((end_uv[0] - ru) * du + (end_uv[1] - rv) * dv) / px_per_mm
