@@ -78,8 +78,11 @@ def test_step_budget_option(write):
 def test_ctrl_c_stops_a_run_cleanly_with_exit_130(write):
     p = write("forever.rcl", "WRITELN('looping')\nWHILE TRUE DO x := 1 END\n")
     env = dict(os.environ, PYTHONFAULTHANDLER="1")  # if it ever hangs, SIGABRT shows where
+    # as from a terminal: a job started in the background (CI under nohup ... &) inherits SIGINT
+    # ignored, and then Python never turns Ctrl-C into KeyboardInterrupt
     proc = subprocess.Popen([sys.executable, "-m", "rcl", "run", str(p)], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, stdin=subprocess.DEVNULL, env=env)
+                            stderr=subprocess.PIPE, text=True, stdin=subprocess.DEVNULL, env=env,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     assert proc.stdout.readline() == "looping\n"
     time.sleep(0.3)
     proc.send_signal(signal.SIGINT)
