@@ -351,24 +351,6 @@ def finish(scene: Scene, img: np.ndarray, rng) -> np.ndarray:
     return img.astype(np.float64)
 
 
-def cell_scene(rng: np.random.Generator, size_px: int, px_per_mm: float, count: int, layers: int) -> Scene:
-    """How a simulated cell's tray looks, drawn from the cell's own seed: any board, insulation
-    and ends, lit a little unevenly, seen by a monochrome camera that adds its own blur and noise
-    (so none here)."""
-    scene = draw_scene(rng)
-    scene.width = scene.height = int(size_px)
-    scene.px_per_mm = float(px_per_mm)
-    scene.count, scene.layers = int(count), max(int(layers), 1)
-    scene.shapes = ("straight", "gentle", "s_bend", "curl")
-    scene.thickness = (1.6, 2.4)  # what the cell's gripper and press are made for
-    scene.colour, scene.blur_px, scene.motion_px, scene.noise, scene.jpeg = False, 0.0, 0.0, 0.0, 0
-    scene.rim, scene.clutter, scene.off_frame, scene.apart = False, 0, 0.0, False
-    scene.light = (min(scene.light[0], 0.2), scene.light[1], min(scene.light[2], 0.15))
-    scene.shadow = min(scene.shadow, 0.25)
-    scene.slice = "cell"
-    return scene
-
-
 def board(scene: Scene, rng) -> np.ndarray:
     """The bare board (h, w, 3) float32, its texture in mm so it scales with the picture."""
     from scipy import ndimage
