@@ -33,7 +33,7 @@ from typing import Optional
 import numpy as np
 
 from ..camera.images import as_grey
-from .common import Clock, block_average, conductor_tip, principal_direction, tray_level
+from .common import FRAME_MARGIN_MM, Clock, block_average, conductor_tip, principal_direction, tray_level
 from .sighting import Sighting
 
 GRASP_MM = 15.0
@@ -43,7 +43,6 @@ EDGE_FACTOR = 4.0
 TANGENT_PX = 4  # the paper takes +-2 skeletal points; at ~1 mm per pixel that quantises to tens of degrees
 END_PX = 6  # likewise the end direction: from the end to the point 6 px in (the paper: 3)
 BORDER_PX = 2  # skeleton ends this close to the border of the averaged image are cut by it
-FRAME_MARGIN_MM = 3.0  # deviation: an end, or the wire near it, this close to the frame may be cut by it
 
 # The 3x3 neighbours, numbered as in the paper: 1 = E, then anticlockwise to 8 = SE.
 # (row, column) offsets; rows grow downwards, so N is row - 1.
@@ -307,7 +306,7 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
                 end_uv = (float(tip[1]), float(tip[0]))
                 inward = np.array([u0 - end_uv[0], v0 - end_uv[1]])
                 du, dv = -inward / max(float(np.linalg.norm(inward)), 1e-9)
-        margin = FRAME_MARGIN_MM * px_per_mm
+        margin = FRAME_MARGIN_MM * px_per_mm  # a deviation from the paper (docs/vision.md): it looked at the border only
         if not (margin <= end_uv[0] < looks.grey.shape[1] - margin and margin <= end_uv[1] < looks.grey.shape[0] - margin):
             continue  # the wire runs on to the border, or may: not an end
         span = np.array(path[:need], float)

@@ -6,6 +6,8 @@ import time
 
 import numpy as np
 
+FRAME_MARGIN_MM = 3.0  # an end, or the wire near it, this close to the frame's edge may be cut by it
+
 
 def block_average(grey: np.ndarray, k: int) -> np.ndarray:
     """The mean of each k x k block (float32); a partial block at an edge is dropped. A colour

@@ -39,7 +39,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..camera.images import ImageError
-from .common import Clock, block_average, principal_direction
+from .common import FRAME_MARGIN_MM, Clock, block_average, principal_direction
 from .sighting import Sighting
 
 GRASP_MM = 15.0  # the grasp point's distance from the tip, along the wire
@@ -47,7 +47,6 @@ SPAN_MM = 20.0  # wire that must be free from the tip: the grasp point and 5 mm 
 CLEARANCE_MM = 4.6  # free board round the grasp point, from the centre line: the fingers' room
 SIDE_FREE_MM = 0.9  # free board beside the wire's edges along the span and beyond its tip
 SPAN_SLACK_MM = 2.0  # ... along the span and this much more: a wire crossing just past it touches it (tip and arc errors)
-BORDER_MM = 3.0  # a tip or span this close to the frame's edge may be cut by it
 SATURATION = 12.0  # contrast (spreads) beyond which a wire is simply there: highlights count no more
 SHADOW_LIGHT = (0.55, 0.97)  # a shadow leaves this share of the board's light: darker is a thing, lighter is board
 SHADOW_TINT = 2.0  # ... and adds no more other colour than this (spreads)
@@ -314,16 +313,19 @@ def minimal(mask: np.ndarray) -> np.ndarray:
     leave such a pixel as a little triangle where lines meet or a ridge end forks, and that reads
     as a crossing."""
     h, w = mask.shape
-    W = w + 2
-    grid = np.zeros((h + 2) * W, bool)
-    grid.reshape(h + 2, W)[1:-1, 1:-1] = mask
+    grid = np.pad(mask, 1).ravel()
+    _cut_corners(grid, w + 2)
+    return grid.reshape(h + 2, w + 2)[1:-1, 1:-1].copy()
+
+
+def _cut_corners(grid: np.ndarray, W: int) -> None:
+    """minimal() in place on a flattened grid W wide with an empty one-pixel frame."""
     n, e, s, west = -W, 1, W, -1
     for a, b in ((n, e), (e, s), (s, west), (west, n)):
         on = np.flatnonzero(grid)
         far = -(a + b)  # the diagonal opposite the corner
         cut = grid[on + a] & grid[on + b] & ~grid[on + far] & ~grid[on - a] & ~grid[on - b]
         grid[on[cut]] = False
-    return grid.reshape(h + 2, W)[1:-1, 1:-1].copy()
 
 
 def thin_sparse(mask: np.ndarray) -> np.ndarray:
@@ -461,8 +463,7 @@ class _Graph:
             path, how = self.trace(int(e), limit)
             if how == "crossing":
                 self.flat[path[:-1] if len(path) > 1 else path] = False
-        # a whisker gone may leave a corner where it joined
-        self.flat = np.pad(minimal(self.skeleton), 1).ravel()
+        _cut_corners(self.flat, self.W)  # a whisker gone may leave a corner where it joined
         self._count()
 
     def across_gap(self, path: list[int]) -> int | None:
@@ -566,7 +567,7 @@ class _EndReader:
     def read(self, end: int):
         g, mm = self.g, self.wppm
         start = np.array(g.rc(end), float)
-        border = BORDER_MM * mm
+        border = FRAME_MARGIN_MM * mm
         path, how = g.trace(end, (SPAN_MM + CLEARANCE_MM + 4.0) * mm * 1.1)  # past the disc round the grasp
         line = np.array([g.rc(i) for i in path], float)
         if len(line) >= 5:  # the pixel staircase smoothed, so arc lengths along it are true lengths
@@ -655,9 +656,7 @@ class _EndReader:
         the other (a light from one side)."""
         if float(shadow_free(self.con, line, core)[1].mean()) >= SHADOW_LIKE_WIRE or len(line) < 5:
             return False
-        t = np.gradient(line, axis=0)
-        t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-9)
-        n = np.column_stack([-t[:, 1], t[:, 0]])
+        n = _normals(line)
         offs = width / 2 + np.array([0.6, 1.0]) * self.wppm  # past the blur of the wire's edge
         share = []
         for sign in (-1.0, 1.0):
@@ -671,6 +670,8 @@ class _EndReader:
         """The tip of a faint conductor or ferrule running on straight past the insulation's end
         (end), or end itself if there is none: where the contrast on the axis, averaged over
         CONDUCTOR_WINDOW_MM, stops standing CONDUCTOR_CONTRAST above the board beside it."""
+        from scipy import ndimage
+
         mm = self.wppm
         steps = np.arange(0.5, TIP_MAX_MM * mm, 0.5)
         side = np.array([-out[1], out[0]])
@@ -684,8 +685,6 @@ class _EndReader:
         v = v.reshape(len(steps), len(lateral))
         rise = v[:, :3].mean(axis=1) - v[:, 3:].mean(axis=1)
         n = max(round(CONDUCTOR_WINDOW_MM * mm * 2), 1)
-        from scipy import ndimage
-
         mean = ndimage.uniform_filter1d(rise, n, mode="nearest")  # over the window centred on each step
         on = (mean >= CONDUCTOR_CONTRAST) & (rise >= 0.5 * CONDUCTOR_CONTRAST)
         off = np.flatnonzero(~on)
@@ -701,9 +700,7 @@ class _EndReader:
 
         if len(line) < 5:
             return line
-        t = np.gradient(line, axis=0)
-        t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-9)
-        n = np.column_stack([-t[:, 1], t[:, 0]])
+        n = _normals(line)
         offs = np.linspace(-0.8 * width, 0.8 * width, 9)
         pts = line[:, None, :] + offs[None, :, None] * n[:, None, :]
         prof = self.sample(pts.reshape(-1, 2), self.flat).reshape(len(line), len(offs))
@@ -754,9 +751,7 @@ class _EndReader:
         dense = _resample(full, 1.0)
         ds = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))])
         # beside the span (its first SPAN_MM: what lies beside the wire further on is no matter), both sides
-        t = np.gradient(dense, axis=0)
-        t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-9)
-        n = np.column_stack([-t[:, 1], t[:, 0]])
+        n = _normals(dense)
         span = ds <= (SPAN_MM + SPAN_SLACK_MM) * mm
         offs = half + np.array([0.6, 0.9, 1.2]) * SIDE_FREE_MM * mm
         band = (dense[span, None, None, :] + (np.array([-1, 1])[None, :, None, None] * offs[None, None, :, None])
@@ -840,6 +835,13 @@ def _disc_template(radius10: int) -> np.ndarray:
 def _disc(radius: float) -> np.ndarray:
     """Points 0.75 px apart filling a disc of the radius (px) round the origin."""
     return _disc_template(round(radius * 10))
+
+
+def _normals(line: np.ndarray) -> np.ndarray:
+    """The unit normal (row, col) at each point of a polyline, from its central differences."""
+    t = np.gradient(line, axis=0)
+    t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-9)
+    return np.column_stack([-t[:, 1], t[:, 0]])
 
 
 def _resample(pts: np.ndarray, step: float) -> np.ndarray:
