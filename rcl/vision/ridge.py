@@ -668,8 +668,9 @@ class _EndReader:
 
     def conductor(self, end: np.ndarray, out: np.ndarray, width: float) -> np.ndarray:
         """The tip of a faint conductor or ferrule running on straight past the insulation's end
-        (end), or end itself if there is none: where the contrast on the axis, averaged over
-        CONDUCTOR_WINDOW_MM, stops standing CONDUCTOR_CONTRAST above the board beside it."""
+        (end), or end itself if there is none. It runs while the contrast on the axis (the most
+        of three samples across it), averaged over CONDUCTOR_WINDOW_MM, stands CONDUCTOR_CONTRAST
+        above the board beside it; its tip is where that contrast falls to TIP_SHARE of its own."""
         from scipy import ndimage
 
         mm = self.wppm
@@ -683,7 +684,7 @@ class _EndReader:
             free, shade = shadow_free(self.con, flat_pts, v)
             v = np.where(shade & (self.sample(flat_pts, self.fine) < CONDUCTOR_RIDGE), free, v)
         v = v.reshape(len(steps), len(lateral))
-        rise = v[:, :3].mean(axis=1) - v[:, 3:].mean(axis=1)
+        rise = v[:, :3].max(axis=1) - v[:, 3:].mean(axis=1)  # a thin conductor may lie off the axis
         n = max(round(CONDUCTOR_WINDOW_MM * mm * 2), 1)
         mean = ndimage.uniform_filter1d(rise, n, mode="nearest")  # over the window centred on each step
         on = (mean >= CONDUCTOR_CONTRAST) & (rise >= 0.5 * CONDUCTOR_CONTRAST)
@@ -691,7 +692,18 @@ class _EndReader:
         run = int(off[0]) if off.size else len(on)
         if run < n or steps[run - 1] < CONDUCTOR_MIN_MM * mm:
             return end  # nothing that runs on far enough: the blur of the end itself, or its shadow
-        return end + out * steps[run - 1]
+        # its tip, as the insulation's: where its own contrast falls to TIP_SHARE of what it is
+        # along it (the run's threshold is low, so it ends in the tail of the tip's blur)
+        own = float(np.median(rise[:run]))
+        edge = max(CONDUCTOR_CONTRAST, TIP_SHARE * own)
+        low = np.flatnonzero(rise[:run] < edge)
+        low = low[low >= n]  # not in the tip's own first window
+        i = int(low[0]) if low.size else run
+        if i >= run:
+            return end + out * steps[run - 1]
+        a, b = rise[i - 1], rise[i]
+        frac = float(np.clip((a - edge) / max(a - b, 1e-6), 0, 1))
+        return end + out * (steps[i - 1] + frac * 0.5)
 
     def recentred(self, line: np.ndarray, width: float) -> np.ndarray:
         """The centre line moved across the wire to the middle of its contrast (sub-pixel); the
