@@ -164,21 +164,39 @@ def contrast(work: np.ndarray, wppm: float) -> Contrast:
     return Contrast(np.sqrt(f), work, under, unit)
 
 
-def shadow_free(con: Contrast, pts: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def shadow_free(con: Contrast, pts: np.ndarray, f: np.ndarray, colours: tuple | None = None
+                ) -> tuple[np.ndarray, np.ndarray]:
     """(F at pts with what looks like the board in shadow counted as board, which points look so).
 
     A shadow darkens the board and keeps its colour: a pixel that is SHADOW_LIGHT of the board's
     colour under it, give or take SHADOW_TINT (spreads) of other colour, is board in shadow; its
-    contrast is then only that other colour. In a grey image every such darkening looks so."""
-    from scipy import ndimage
-
-    ch = con.work.shape[2]
-    p = np.stack([ndimage.map_coordinates(con.work[:, :, c], pts.T, order=1, mode="nearest") for c in range(ch)], 1)
-    b = np.stack([ndimage.map_coordinates(con.board[:, :, c], pts.T, order=1, mode="nearest") for c in range(ch)], 1)
+    contrast is then only that other colour. In a grey image every such darkening looks so.
+    colours: (the image's colour, the board's) at pts, if already sampled."""
+    p, b = colours if colours is not None else (bilinear(con.work, pts), bilinear(con.board, pts))
     light = (p * b).sum(axis=1) / np.maximum((b * b).sum(axis=1), 1e-9)
     tint = np.sqrt((((p - light[:, None] * b) * con.unit) ** 2).sum(axis=1))
     shade = (light >= SHADOW_LIGHT[0]) & (light <= SHADOW_LIGHT[1]) & (tint < SHADOW_TINT)
     return np.where(shade, tint, f), shade
+
+
+def bilinear(layers: np.ndarray, pts: np.ndarray) -> np.ndarray:
+    """The values of a (rows, cols) or (rows, cols, layers) array at N (row, col) points,
+    interpolated linearly: (N,) or (N, layers). Points outside take the nearest edge's values
+    (as map_coordinates' mode nearest); one gather serves every layer."""
+    h, w = layers.shape[:2]
+    r = np.clip(pts[:, 0], 0.0, h - 1.0)
+    c = np.clip(pts[:, 1], 0.0, w - 1.0)
+    r0 = np.minimum(r.astype(np.intp), h - 2)
+    c0 = np.minimum(c.astype(np.intp), w - 2)
+    fr = (r - r0).astype(np.float32)
+    fc = (c - c0).astype(np.float32)
+    flat = layers.reshape(h * w, -1) if layers.ndim == 3 else layers.reshape(-1)
+    if layers.ndim == 3:
+        fr, fc = fr[:, None], fc[:, None]
+    i = r0 * w + c0
+    top = flat[i] * (1 - fc) + flat[i + 1] * fc
+    bottom = flat[i + w] * (1 - fc) + flat[i + w + 1] * fc
+    return top * (1 - fr) + bottom * fr
 
 
 def _interp_matrix(n: int, blocks: int, size: int) -> np.ndarray:
@@ -427,7 +445,7 @@ class _Graph:
     def trace(self, start: int, limit_px: float) -> tuple[list[int], str]:
         """Follow the centre line from an end for limit_px of arc: (pixels, how it stopped:
         'crossing', 'end' or 'far')."""
-        flat, offsets = self.flat, self.offsets
+        flat, offsets = self.flat.tobytes(), self.offsets  # bytes: a Python index per pixel is cheap
         path = [start]
         prev = -1
         cur = start
@@ -547,22 +565,29 @@ class _EndReader:
         self.k = k
         self.result = result
         self.h, self.w = self.f.shape
+        self.layers = (con.f, flat, fine)  # what sample() may be asked for: F, FLAT, FINE
         self.shadows = False  # whether shadows round the wire being read are told from things (set by read)
 
     def refuse(self, at, why: str) -> None:
         r, c = at
         self.result.rejected.append(((float((c + 0.5) * self.k - 0.5), float((r + 0.5) * self.k - 0.5)), why))
 
-    def sample(self, pts: np.ndarray, of: np.ndarray | None = None) -> np.ndarray:
-        from scipy import ndimage
+    F, FLAT, FINE = 0, 1, 2  # the layers sample() may be asked for
 
-        return ndimage.map_coordinates(self.f if of is None else of, pts.T, order=1, mode="nearest")
+    def sample(self, pts: np.ndarray, of: int = F) -> np.ndarray:
+        """One layer (F, FLAT or FINE) at the points."""
+        return bilinear(self.layers[of], pts)
+
+    def shade(self, pts: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(F, F with the board in shadow counted as board, which points look so) at the points."""
+        f = bilinear(self.f, pts)
+        free, shade = shadow_free(self.con, pts, f, (bilinear(self.con.work, pts), bilinear(self.con.board, pts)))
+        return f, free, shade
 
     def around(self, pts: np.ndarray) -> np.ndarray:
         """The contrast at points round the wire (not on it): shadows on the board count as board
         unless the wire being read looks like a shadow itself."""
-        f = self.sample(pts)
-        return shadow_free(self.con, pts, f)[0] if self.shadows else f
+        return self.shade(pts)[1] if self.shadows else self.sample(pts)
 
     def read(self, end: int):
         g, mm = self.g, self.wppm
@@ -603,7 +628,7 @@ class _EndReader:
         lateral = np.array([-0.25, 0.0, 0.25]) * width
         ray = scan[:, None, :] + lateral[None, :, None] * side
         along = self.around(ray.reshape(-1, 2)).reshape(len(scan), len(lateral)).max(axis=1)
-        thin = self.sample(ray.reshape(-1, 2), self.fine).reshape(len(scan), len(lateral)).max(axis=1)
+        thin = self.sample(ray.reshape(-1, 2), self.FINE).reshape(len(scan), len(lateral)).max(axis=1)
         # the wire goes on while it stands out as the insulation does (shadows on the board do not
         # count), or as a thin conductor does: a faint but sharp ridge on the axis (a shadow or a
         # blur is faint and broad; tin or a ferrule may have the colour of a shadow)
@@ -654,15 +679,15 @@ class _EndReader:
         """Whether the wire casts a shadow that can be told from it: its own centre line does not
         look like board in shadow, and the board along one side of it does, much more than along
         the other (a light from one side)."""
-        if float(shadow_free(self.con, line, core)[1].mean()) >= SHADOW_LIKE_WIRE or len(line) < 5:
+        if float(self.shade(line)[2].mean()) >= SHADOW_LIKE_WIRE or len(line) < 5:
             return False
         n = _normals(line)
         offs = width / 2 + np.array([0.6, 1.0]) * self.wppm  # past the blur of the wire's edge
         share = []
         for sign in (-1.0, 1.0):
             pts = (line[:, None, :] + sign * offs[None, :, None] * n[:, None, :]).reshape(-1, 2)
-            f = self.sample(pts)
-            share.append(float((shadow_free(self.con, pts, f)[1] & (f >= BOARD_FLOOR)).mean()))
+            f, _, shade = self.shade(pts)
+            share.append(float((shade & (f >= BOARD_FLOOR)).mean()))
         # a blurred edge looks like shadow on both sides alike
         return max(share) >= SHADOW_SIDE and min(share) <= 0.5 * max(share)
 
@@ -679,10 +704,11 @@ class _EndReader:
         lateral = np.array([-0.2 * width, 0.0, 0.2 * width, -(width / 2 + mm), width / 2 + mm])
         pts = end + steps[:, None, None] * out + lateral[None, :, None] * side
         flat_pts = pts.reshape(-1, 2)
-        v = self.sample(flat_pts)
         if self.shadows:  # board in shadow beyond the tip is no conductor, unless a sharp ridge runs on it
-            free, shade = shadow_free(self.con, flat_pts, v)
-            v = np.where(shade & (self.sample(flat_pts, self.fine) < CONDUCTOR_RIDGE), free, v)
+            v, free, shade = self.shade(flat_pts)
+            v = np.where(shade & (self.sample(flat_pts, self.FINE) < CONDUCTOR_RIDGE), free, v)
+        else:
+            v = self.sample(flat_pts)
         v = v.reshape(len(steps), len(lateral))
         rise = v[:, :3].max(axis=1) - v[:, 3:].mean(axis=1)  # a thin conductor may lie off the axis
         n = max(round(CONDUCTOR_WINDOW_MM * mm * 2), 1)
@@ -715,7 +741,7 @@ class _EndReader:
         n = _normals(line)
         offs = np.linspace(-0.8 * width, 0.8 * width, 9)
         pts = line[:, None, :] + offs[None, :, None] * n[:, None, :]
-        prof = self.sample(pts.reshape(-1, 2), self.flat).reshape(len(line), len(offs))
+        prof = self.sample(pts.reshape(-1, 2), self.FLAT).reshape(len(line), len(offs))
         wts = np.clip(prof - 0.5 * prof.max(axis=1, keepdims=True), 0, None)
         total = wts.sum(axis=1)
         shift = np.where(total > 0, (wts * offs).sum(axis=1) / np.maximum(total, 1e-9), 0.0)
@@ -776,7 +802,8 @@ class _EndReader:
         disc = _disc(CLEARANCE_MM * mm) + grasp
         local = dense[np.abs(ds - GRASP_MM * mm) <= (CLEARANCE_MM + 3.0) * mm]
         if len(local):
-            d2 = ((disc[:, None, :] - local[None, :, :]) ** 2).sum(axis=2).min(axis=1)
+            d2 = ((disc * disc).sum(axis=1)[:, None] + (local * local).sum(axis=1)[None, :]
+                  - 2.0 * disc @ local.T).min(axis=1)
             disc = disc[d2 > (half + 0.6 * SIDE_FREE_MM * mm) ** 2]
         pts = np.vstack((band, cap, disc))
         inside = (pts[:, 0] >= 0) & (pts[:, 1] >= 0) & (pts[:, 0] <= self.h - 1) & (pts[:, 1] <= self.w - 1)
@@ -792,10 +819,9 @@ class _EndReader:
         # texture or a thin printed line does not)
         runs = hit[:nb].reshape(int(span.sum()), -1)
         need = max(round(RUN_MM * mm), 2)
-        if runs.shape[0] >= need:
-            window = np.ones(need, int)
-            longest = max(int(np.convolve(col.astype(int), window, mode="valid").max()) for col in runs.T)
-            if longest >= need:
+        if runs.shape[0] >= need:  # a run of `need` hits down any one column
+            c = np.cumsum(np.vstack([np.zeros((1, runs.shape[1]), int), runs]), axis=0)
+            if int((c[need:] - c[:-need]).max()) >= need:
                 return "another wire or something lies beside it"
         if np.count_nonzero(hit[nb:nb + nc]) >= CAP_HITS:
             return "something lies just beyond its end"
