@@ -164,15 +164,13 @@ def contrast(work: np.ndarray, wppm: float) -> Contrast:
     return Contrast(np.sqrt(f), work, under, unit)
 
 
-def shadow_free(con: Contrast, pts: np.ndarray, f: np.ndarray, colours: tuple | None = None
-                ) -> tuple[np.ndarray, np.ndarray]:
-    """(F at pts with what looks like the board in shadow counted as board, which points look so).
+def shadow_free(con: Contrast, p: np.ndarray, b: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(F with what looks like the board in shadow counted as board, which points look so), given
+    the image's colour p, the board's b and F at the same points.
 
     A shadow darkens the board and keeps its colour: a pixel that is SHADOW_LIGHT of the board's
     colour under it, give or take SHADOW_TINT (spreads) of other colour, is board in shadow; its
-    contrast is then only that other colour. In a grey image every such darkening looks so.
-    colours: (the image's colour, the board's) at pts, if already sampled."""
-    p, b = colours if colours is not None else (bilinear(con.work, pts), bilinear(con.board, pts))
+    contrast is then only that other colour. In a grey image every such darkening looks so."""
     light = (p * b).sum(axis=1) / np.maximum((b * b).sum(axis=1), 1e-9)
     tint = np.sqrt((((p - light[:, None] * b) * con.unit) ** 2).sum(axis=1))
     shade = (light >= SHADOW_LIGHT[0]) & (light <= SHADOW_LIGHT[1]) & (tint < SHADOW_TINT)
@@ -558,14 +556,14 @@ class _EndReader:
                  result: RidgeResult) -> None:
         self.con = con
         self.f = con.f  # the contrast
-        self.flat = flat  # ... saturated: what centres the line
-        self.fine = fine  # the finest scale's ridge strength
         self.g = graph
         self.wppm = wppm
         self.k = k
         self.result = result
         self.h, self.w = self.f.shape
-        self.layers = (con.f, flat, fine)  # what sample() may be asked for: F, FLAT, FINE
+        # what sample() may be asked for: F, its saturated form (what centres the line), the finest
+        # scale's ridge strength
+        self.layers = (con.f, flat, fine)
         self.shadows = False  # whether shadows round the wire being read are told from things (set by read)
 
     def refuse(self, at, why: str) -> None:
@@ -581,7 +579,7 @@ class _EndReader:
     def shade(self, pts: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(F, F with the board in shadow counted as board, which points look so) at the points."""
         f = bilinear(self.f, pts)
-        free, shade = shadow_free(self.con, pts, f, (bilinear(self.con.work, pts), bilinear(self.con.board, pts)))
+        free, shade = shadow_free(self.con, bilinear(self.con.work, pts), bilinear(self.con.board, pts), f)
         return f, free, shade
 
     def around(self, pts: np.ndarray) -> np.ndarray:
@@ -614,7 +612,7 @@ class _EndReader:
         level = float(np.median(core))
         board = max(BOARD_FLOOR, BOARD_SHARE * level)
         width = self.width(line, board)
-        self.shadows = self.casts_shadow(line, core, width)
+        self.shadows = self.casts_shadow(line, width)
         # the tip: from inside the wire, follow the contrast outward along the centre line and on
         # past the ridge's end (which smoothing may carry beyond the wire) to where it drops
         out = -inward
@@ -675,7 +673,7 @@ class _EndReader:
         grasp = self.centred(grasp, tangent, width)
         return self.sighting(on_axis, inward, grasp, tangent, level, width)
 
-    def casts_shadow(self, line: np.ndarray, core: np.ndarray, width: float) -> bool:
+    def casts_shadow(self, line: np.ndarray, width: float) -> bool:
         """Whether the wire casts a shadow that can be told from it: its own centre line does not
         look like board in shadow, and the board along one side of it does, much more than along
         the other (a light from one side)."""
