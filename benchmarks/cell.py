@@ -1,10 +1,14 @@
 """The main job on the simulated cell: examples/crimp.rcl over seeded trays of 10-15 wires.
 
-    python benchmarks/cell.py [TRAYS]      (default 20; runs on both cores)
+    python benchmarks/cell.py [TRAYS [FIRST_SEED [WAY ...]]]   (default 20 trays from seed 0,
+                                                                every way; runs on both cores)
 
-Ways, each over the same trays: the default wire finder with the bicubic warp
-(the example as it is), the paper's grey-scale and binary vision with the warp
-(GREYWIRE, BINWIRE for FINDWIRE), and the default finder with the linear 3x4 camera
+Each tray looks as the randomized tray generator draws it from the tray's seed
+(the cell's `tray.look = "random"`), or, where a way says so, as its slice
+plain_dark draws it (dark wires on a plain light board: what the paper's
+systems were made for). Ways, each over the same seeds: the default wire finder
+with the bicubic warp (the example as it is), the paper's grey-scale and binary
+vision with the warp (GREYWIRE, BINWIRE for FINDWIRE), and the default finder with the linear 3x4 camera
 model in place of the warp (fitted to the marker seen at two heights, by the
 same arm), which shows why the paper needed the warp: the linear model
 cannot follow the lens's distortion or the arm's inaccuracy; and the two models
@@ -27,8 +31,17 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 SCRIPT = (ROOT / "examples" / "crimp.rcl").read_text()
-WAYS = ("default + warp", "grey + warp", "binary + warp", "default + linear", "default + warp, 0.5 mm fingers",
-        "default + linear, 0.5 mm fingers")
+# (label, finder, camera model, tray look, finger tolerance mm)
+WAYS = (
+    ("default + warp", "FINDWIRE", "warp", "random", 1.0),
+    ("default + warp, plain dark trays", "FINDWIRE", "warp", "plain_dark", 1.0),
+    ("grey + warp, plain dark trays", "GREYWIRE", "warp", "plain_dark", 1.0),
+    ("binary + warp, plain dark trays", "BINWIRE", "warp", "plain_dark", 1.0),
+    ("grey + warp", "GREYWIRE", "warp", "random", 1.0),
+    ("default + linear", "FINDWIRE", "linear", "random", 1.0),
+    ("default + warp, 0.5 mm fingers", "FINDWIRE", "warp", "random", 0.5),
+    ("default + linear, 0.5 mm fingers", "FINDWIRE", "linear", "random", 0.5),
+)
 
 
 def linear_model(cell):
@@ -55,25 +68,21 @@ def linear_model(cell):
     return model
 
 
-def run(job: tuple[str, int]) -> dict:
+def run(job: tuple[tuple, int]) -> dict:
     from rcl import Session
     from rcl.runreport import RunWatcher
     from rcl.workcell import open_cell
 
     from rcl.cell import load_config
 
-    way, seed = job
+    (_, finder, model, look, fingers), seed = job
     config = load_config()
-    if "0.5 mm fingers" in way:
-        config.data["gripper"]["tolerance_mm"] = 0.5
+    config.data["gripper"]["tolerance_mm"] = fingers
+    config.data["tray"]["look"] = look
     cell = open_cell(config, seed=seed)
-    source = SCRIPT
+    source = SCRIPT.replace("FINDWIRE(", f"{finder}(")
     session = Session(out=io.StringIO(), cell=cell, step_budget=5_000_000)
-    if way.startswith("binary"):
-        source = source.replace("FINDWIRE(", "BINWIRE(")
-    if way.startswith("grey"):
-        source = source.replace("FINDWIRE(", "GREYWIRE(")
-    if "linear" in way:
+    if model == "linear":
         session.camera_model.model = linear_model(cell)
         source = source.replace("\nGETWARP\n", "\n")
     watcher = RunWatcher(cell.sim, session, keep_images=False)
@@ -91,17 +100,21 @@ def run(job: tuple[str, int]) -> dict:
 
 
 def main() -> None:
-    trays = int(sys.argv[1]) if len(sys.argv) > 1 else 20
-    jobs = [(way, seed) for way in WAYS for seed in range(trays)]
+    args = sys.argv[1:]
+    trays = int(args[0]) if args else 20
+    start = int(args[1]) if len(args) > 1 else 0
+    ways = [w for w in WAYS if len(args) < 3 or w[0] in args[2:]]
+    jobs = [(way, seed) for way in ways for seed in range(start, start + trays)]
     with ProcessPoolExecutor(2) as pool:
         results = list(pool.map(run, jobs))
-    print(f"examples/crimp.rcl on {trays} seeded trays of 10-15 wires (the built-in simulated cell)\n")
+    print(f"examples/crimp.rcl on {trays} seeded trays of 10-15 wires (the built-in simulated cell), "
+          f"seeds {start}-{start + trays - 1}\n")
     print("| way | wires | crimped first try | crimped in all | picks per crimped wire | "
           "fingers off the centre line, mm median (p90) | vision ms/look median (p90) | robot s per wire | "
           "runs ended by an error |")
     print("|---|---|---|---|---|---|---|---|---|")
     why_by_way = {}
-    for way in WAYS:
+    for way in ways:
         rs = [r for (w, _), r in zip(jobs, results) if w == way]
         total = sum(r["wires_total"] for r in rs)
         done = sum(r["wires_done"] for r in rs)
@@ -111,14 +124,14 @@ def main() -> None:
         robot = sum(r["robot_time_s"] for r in rs)
         errors = sum(1 for r in rs if r["error"])
         off = [m for r in rs for m in r["pick_off_mm"]]
-        print(f"| {way} | {total} | {100 * first / total:.1f} % | {100 * done / total:.1f} % | "
+        print(f"| {way[0]} | {total} | {100 * first / total:.1f} % | {100 * done / total:.1f} % | "
               f"{attempts / max(done, 1):.2f} | {statistics.median(off):.2f} ({np.percentile(off, 90):.2f}) | "
               f"{statistics.median(ms):.1f} ({np.percentile(ms, 90):.1f}) | "
               f"{robot / total:.1f} | {errors} |")
-        why_by_way[way] = collections.Counter(_kind(f) for r in rs for f in r["failures"]
+        why_by_way[way[0]] = collections.Counter(_kind(f) for r in rs for f in r["failures"]
                                               if f["what"] != "release")  # a release only repeats why
-        why_by_way[way].update(f"run ended: {r['error'][:60]}" for r in rs if r["error"])
-        why_by_way[way].update({"left on the tray": sum(r["wires_left"] for r in rs)})
+        why_by_way[way[0]].update(f"run ended: {r['error'][:60]}" for r in rs if r["error"])
+        why_by_way[way[0]].update({"left on the tray": sum(r["wires_left"] for r in rs)})
     print()
     for way, counts in why_by_way.items():
         parts = ", ".join(f"{what} {n}" for what, n in counts.most_common() if n)

@@ -11,6 +11,7 @@ import pytest
 
 from conftest import ROOT, rcl
 from rcl import Session
+from rcl.camera import as_grey
 from rcl.camera.simulated import PinholeCamera
 from rcl.cell import CellConfigError, SimCell, TrayView, load_config
 from rcl.frame import Frame
@@ -46,7 +47,8 @@ def test_a_look_resamples_a_tray_picture_through_the_optics():
 
 # The cell's physics ------------------------------------------------------------------
 
-EXACT_ARM = "[robot]\ninaccuracy_mm = 0.0\nrepeatability_mm = 0.0\n[gripper]\ndrop_rate = 0.0\n"
+EXACT_ARM = ("[robot]\ninaccuracy_mm = 0.0\nrepeatability_mm = 0.0\n[gripper]\ndrop_rate = 0.0\n"
+             "[tray]\nlook = 'plain_dark'\n")
 
 
 def exact_cell(tmp_path, extra: str = "") -> SimCell:
@@ -153,22 +155,48 @@ def test_a_wire_let_go_over_the_tray_lies_there_again_and_a_slipping_wire_falls_
 
 def test_every_look_is_a_fresh_picture_of_the_tray_as_it_now_is(tmp_path):
     sim = exact_cell(tmp_path)
-    first = sim.camera.grab()
+    first = as_grey(sim.camera.grab())
     u, v = sim.lens.project(336.0, -4.0, 1.0)
     assert first[int(round(float(v))), int(round(float(u)))] < 0.3  # the wire, dark
     send_tool(sim, grasp_at(336.0, -4.0))
     sim.arm.close()
     send_tool(sim, grasp_at(336.0, -4.0, z=200.0))
-    second = sim.camera.grab()
+    second = as_grey(sim.camera.grab())
     assert second[int(round(float(v))), int(round(float(u)))] > 0.45  # gone: the tray shows
     assert not np.array_equal(first, sim.camera.grab())  # fresh noise every look
     assert sim.camera.grabs == 3
+
+
+def test_the_tray_looks_as_the_randomized_generator_draws_it_from_its_seed():
+    same = [SimCell(load_config(), seed=4).tray.picture() for _ in range(2)]
+    assert np.array_equal(same[0], same[1])
+    scenes = [SimCell(load_config(), seed=s).tray.scene for s in range(12)]
+    assert len({sc.board for sc in scenes}) >= 3 and len({sc.board_colour for sc in scenes}) == 12
+    assert {sc.colour for sc in scenes} == {True, False}
+    config = load_config()
+    config.data["tray"]["look"] = "plain_dark"  # a slice of the generator: the paper's conditions
+    tray = SimCell(config, seed=4).tray
+    assert tray.scene.board == "plain" and {lk.insulation for lk in tray.looks.values()} == {"black"}
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2, 3, 5])
+def test_the_marker_is_found_where_the_fingertips_are_on_any_tray(seed):
+    from rcl.camera import find_mark
+
+    sim = SimCell(load_config(), seed=seed)
+    sim.arm.close()
+    for x, y in ((300.0, -50.0), (350.0, 0.0), (400.0, 45.0)):
+        send_tool(sim, grasp_at(x, y))
+        u, v = find_mark(sim.camera.grab())
+        pu, pv = sim.lens.project(*sim.tool()[:3, 3])
+        assert math.hypot(u - float(pu), v - float(pv)) < 0.15
 
 
 # The cell file ----------------------------------------------------------------------------
 
 @pytest.mark.parametrize("text, message", [
     ("[robot]\nkind = 'kuka'\n", "robot.kind"),
+    ("[tray]\nlook = 'shiny'\n", "tray.look must be one of random, sparse"),
     ("[gripper]\ntolerance = 1.0\n", "unknown key 'gripper.tolerance'"),
     ("[tray]\nwires = [3]\n", "'tray.wires' must be a list of 2 numbers"),
     ("[camera]\nwidth = 'big'\n", "'camera.width' must be a number"),

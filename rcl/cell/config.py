@@ -17,9 +17,11 @@ from typing import Any, Optional
 import numpy as np
 
 from ..frame import Frame
+from ..vision.scenes import SLICES
 
 DEFAULT = Path(__file__).with_name("sim.toml")
 FRAME_NAMES_REQUIRED = ("Z", "E")
+LOOKS = ("random",) + SLICES
 
 
 class CellConfigError(ValueError):
@@ -184,6 +186,8 @@ def _check(data: dict, source: str) -> None:
         fail("camera.px_per_mm must be 0 (from the width and fov) or more")
     if not 0 <= camera["tilt_deg"] < 45:
         fail(f"camera.tilt_deg must be 0 to 45, not {camera['tilt_deg']}")
+    if tray["look"] not in LOOKS:
+        fail(f"tray.look must be one of {', '.join(LOOKS)}, not {tray['look']!r}")
     low, high = tray["wires"]
     if not 0 <= low <= high <= 40:
         fail(f"tray.wires must be [low, high] with 0 <= low <= high <= 40, not {tray['wires']}")

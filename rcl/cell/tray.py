@@ -3,6 +3,12 @@
 Positions are tray millimetres: (0, 0) is the tray's corner at the world point
 `origin`, x and y run along the world's X and Y. Wires keep the number they
 were given when the tray was made, whatever happens to them later.
+
+How the tray looks is drawn by the randomized tray generator
+(rcl.vision.scenes) from the tray's own seed: the board and its texture, each
+wire's shape, thickness, insulation and ends, the lamp and its shadows, blur,
+noise. `look` names a slice of the generator to draw from instead of all of it
+("plain_dark": the paper's dark wires on a plain light board).
 """
 from __future__ import annotations
 
@@ -12,7 +18,8 @@ from typing import Optional
 
 import numpy as np
 
-from ..vision.synth import Wire, random_wire, render, resample
+from ..vision import scenes
+from ..vision.synth import Wire, resample
 
 PICTURE_PX_PER_MM = 4.0  # the tray picture the camera looks at; the camera resamples it
 
@@ -31,15 +38,24 @@ class Touch:
 class WireTray:
     """Wires lying on a square tray of side size_mm; top layers are drawn last."""
 
-    def __init__(self, size_mm: float, origin_xy, rng: np.random.Generator, count: int, layers: int) -> None:
+    def __init__(self, size_mm: float, origin_xy, rng: np.random.Generator, count: int, layers: int,
+                 look: str = "random") -> None:
         self.size = float(size_mm)
         self.origin = np.array(origin_xy, float)
         self.rng = rng
+        px = int(round(self.size * PICTURE_PX_PER_MM))
+        self.scene = scenes.tray_scene(rng, px, px, PICTURE_PX_PER_MM, count, layers,
+                                       None if look == "random" else look)
+        extent = np.array([self.size, self.size])
         self.wires: dict[int, Wire] = {}
+        self.looks: dict[int, scenes.WireLook] = {}
         for i in range(count):
-            w = random_wire(rng, self.size, "crossing", layer=int(rng.integers(max(layers, 1))),
-                            colour=False, dark_tray=False)
-            self.wires[i + 1] = w
+            w = scenes.random_wire(rng, self.scene, extent, i)
+            lk = scenes.wire_look(rng, self.scene)
+            w.level, w.tip = lk.colour, max(lk.tip_mm)
+            self.wires[i + 1], self.looks[i + 1] = w, lk
+        self._board_seed = int(rng.integers(2**63))
+        self._board: Optional[np.ndarray] = None
         self._dense: dict[int, np.ndarray] = {}
         self._picture: Optional[np.ndarray] = None
 
@@ -84,6 +100,8 @@ class WireTray:
         """A wire laid (back) on the tray along centre (tray mm), on top of every other."""
         top = max((w.layer for w in self.wires.values()), default=0) + 1
         self.wires[number] = Wire(np.asarray(centre, float), wire.width, top, wire.level, wire.tip)
+        if number not in self.looks:  # a wire new to the tray: it looks like the others
+            self.looks[number] = scenes.wire_look(self.rng, self.scene)
         self._changed(number)
 
     def nudge(self, p, radius: float, push_mm: float, turn_deg: float) -> list[int]:
@@ -120,11 +138,14 @@ class WireTray:
     # The picture ------------------------------------------------------------------
 
     def picture(self) -> np.ndarray:
-        """The tray as seen from straight above, PICTURE_PX_PER_MM px per mm, without noise."""
+        """The tray lit and seen from straight above, (h, w, 3), PICTURE_PX_PER_MM px per mm,
+        before the camera (its lens, light falloff, blur and noise) makes an image of it."""
         if self._picture is None:
-            size = int(round(self.size * PICTURE_PX_PER_MM))
-            self._picture = render(list(self.wires.values()), size, PICTURE_PX_PER_MM, "crossing",
-                                   self.rng, noise=0.0).astype(np.float32)
+            if self._board is None:
+                self._board = scenes.backdrop(self.scene, np.random.default_rng(self._board_seed))
+            numbers = list(self.wires)
+            self._picture = scenes.paint(self.scene, [self.wires[n] for n in numbers],
+                                         [self.looks[n] for n in numbers], self._board)
         return self._picture
 
 

@@ -41,13 +41,14 @@ from ..frame import Frame
 from ..robots import Robot, SimRobot
 from .config import CellConfig
 from .optics import TrayView
+from ..vision.scenes import finish
 from ..vision.synth import Wire, resample
 from .tray import PICTURE_PX_PER_MM, WireTray
 
-LIGHT = 0.75  # the lighting: the tray (0.8 in its picture) is seen at 0.6
-TABLE_LEVEL = 0.7  # the bench around the tray, as the camera sees it
-MARKER_RADIUS_MM = 3.0
-MARKER_LEVEL = 1.0
+BENCH = (0.35, 0.35, 0.36)  # the bench round the tray
+MARKER_RADIUS_MM = 3.0  # the calibration marker: a white disc of this radius ...
+MARKER_PAD_MM = 6.0  # ... on a black pad of this radius, so that it is seen on any board and over wires
+MARKER_LEVEL, MARKER_PAD_LEVEL = 0.97, 0.06
 MARKER_SEEN_BELOW_MM = 20.0  # the disc on the closed fingertips is seen when they are this low over the tray
 PICK_BELOW_MM = 50.0  # closing the fingers lower than this over the tray is a pick
 NOMINAL_GRASP_MM = 15.0  # how far from the end a station's frame assumes the wire is held
@@ -128,13 +129,13 @@ class SimCell:
         centre = np.array(tray["centre"], float)
         self.tray_z = float(tray["z"])
         self.tray = WireTray(size, centre - size / 2, np.random.default_rng([seed, 2]),
-                             int(self.rng.integers(low, high + 1)), int(tray["layers"]))
+                             int(self.rng.integers(low, high + 1)), int(tray["layers"]), tray["look"])
+        self.optics = dataclasses.replace(self.tray.scene, noise=float(cam["noise"]))
         self.wires_total = len(self.tray)
         lens = PinholeCamera.over_tray(centre_xy=tuple(centre), height_mm=cam["height_mm"], fov_mm=cam["fov_mm"],
                                        width=int(cam["width"]), tilt_deg=cam["tilt_deg"], k1=cam["k1"], k2=cam["k2"])
         self.lens = dataclasses.replace(lens, pose=(Frame.trans(0.0, 0.0, self.tray_z) * Frame(lens.pose)).matrix)
         self._view: Optional[TrayView] = None
-        self.noise = float(cam["noise"])
         self.Z = config.frame("Z").matrix
         self.E = config.frame("E").matrix
         self.error = Inaccuracy(float(robot["inaccuracy_mm"]), int(robot["seed"]))
@@ -179,18 +180,20 @@ class SimCell:
     # The camera ---------------------------------------------------------------------
 
     def grab(self) -> np.ndarray:
-        img = LIGHT * self.view.look(self.tray.picture(), tuple(self.tray.origin), PICTURE_PX_PER_MM,
-                                     TABLE_LEVEL / LIGHT)
+        """What the camera sees now: the tray through the lens, the marker on the closed
+        fingertips when they are low over the tray, then the scene's light falloff, blur, noise
+        (the cell file's), grey or colour and JPEG."""
+        img = self.view.look(self.tray.picture(), tuple(self.tray.origin), PICTURE_PX_PER_MM, BENCH)
         t = self.tool()
         p = t[:3, 3]
         height = p[2] - self.tray_z
         if not self.arm.inner.gripper_open and t[2, 2] < -0.9 and -1.0 <= height <= MARKER_SEEN_BELOW_MM:
             u, v = self.lens.project(*p)
-            r = MARKER_RADIUS_MM * self.lens.focal_px / float(self.lens.depth(*p))
-            cover = render_disc(img.shape, (float(u), float(v)), r, 1.0, 0.0)
-            img = img * (1.0 - cover) + MARKER_LEVEL * cover
-        img = img + self.rng.normal(0.0, self.noise, img.shape)
-        return np.clip(img, 0.0, 1.0).astype(np.float32)
+            scale = self.lens.focal_px / float(self.lens.depth(*p))
+            for radius, level in ((MARKER_PAD_MM, MARKER_PAD_LEVEL), (MARKER_RADIUS_MM, MARKER_LEVEL)):
+                cover = render_disc(img.shape[:2], (float(u), float(v)), radius * scale, 1.0, 0.0)[..., None]
+                img = img * (1.0 - cover) + level * cover
+        return finish(self.optics, img, self.rng).astype(np.float32)
 
     # The gripper --------------------------------------------------------------------
 

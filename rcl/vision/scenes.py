@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import io
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -227,6 +227,16 @@ def random_tray(seed: int, slice: str | None = None) -> Tray:
     return tray
 
 
+def tray_scene(rng: np.random.Generator, width: int, height: int, px_per_mm: float, count: int, layers: int,
+               slice: str | None = None) -> Scene:
+    """A scene for a tray of known size and scale (a work cell's): drawn as random_tray draws its
+    scene, but the frame is the tray itself, so every wire lies wholly on it and there is no rim
+    or clutter drawn at the frame's edge (the tray's own edge is its rim)."""
+    scene = draw_scene(rng, slice)
+    return replace(scene, width=int(width), height=int(height), px_per_mm=float(px_per_mm), count=int(count),
+                   layers=max(int(layers), 1), rim=False, clutter=0, off_frame=0.0, apart=False, looks=[], things=[])
+
+
 # Wires -------------------------------------------------------------------------------
 
 
@@ -338,9 +348,11 @@ def finish(scene: Scene, img: np.ndarray, rng) -> np.ndarray:
     img = img * ((1.0 + g * ramp) * (1.0 - vig * r2))[..., None]
     if scene.blur_px > 0:
         img = ndimage.gaussian_filter(img, (scene.blur_px, scene.blur_px, 0))
-    if scene.motion_px > 0:
-        axis = int(rng.integers(2))
-        img = ndimage.uniform_filter1d(img, max(round(scene.motion_px) + 1, 2), axis=axis)
+    if scene.motion_px > 0:  # a smear motion_px + 1 px long, centred (no shift of the picture)
+        span = scene.motion_px + 1.0
+        n = int(math.ceil(span)) | 1
+        kernel = np.clip(span / 2 + 0.5 - np.abs(np.arange(n) - n // 2), 0.0, 1.0).astype(np.float32)
+        img = ndimage.convolve1d(img, kernel / kernel.sum(), axis=int(rng.integers(2)))
     if scene.noise > 0:
         img = img + rng.normal(0.0, scene.noise, img.shape).astype(np.float32)
     img = np.clip(img, 0.0, 1.0)
