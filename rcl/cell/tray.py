@@ -43,7 +43,7 @@ class WireTray:
         self.size = float(size_mm)
         self.origin = np.array(origin_xy, float)
         self.rng = rng
-        px = int(round(self.size * PICTURE_PX_PER_MM))
+        px = round(self.size * PICTURE_PX_PER_MM)
         self.scene = scenes.tray_scene(rng, px, px, PICTURE_PX_PER_MM, count, layers,
                                        None if look == "random" else look)
         extent = np.array([self.size, self.size])

@@ -656,12 +656,8 @@ class _EndReader:
         if np.any(full < border) or np.any(full[:, 0] > self.h - 1 - border) or np.any(full[:, 1] > self.w - 1 - border):
             return self.refuse(start, "the wire runs off the frame near its end")
         head = full[(s >= END_SKIP_MM * mm) & (s <= END_FIT_MM * mm)]
-        if len(head) >= 3:  # the direction from the tip itself (a ridge may bend as it overshoots the end)
-            inward = principal_direction(head)
-            if inward @ (head[-1] - head[0]) < 0:
-                inward = -inward
-            middle = head.mean(axis=0)  # the tip on that axis: a hooked ridge end is off it
-            on_axis = middle + inward * float((full[0] - middle) @ inward)
+        if len(head) >= 5:  # the direction at the tip itself (a ridge may bend as it overshoots the end)
+            inward, on_axis = tip_tangent(head, full[0])
         else:
             on_axis = full[0]
         grasp = np.array([np.interp(GRASP_MM * mm, s, full[:, 0]), np.interp(GRASP_MM * mm, s, full[:, 1])])
@@ -848,6 +844,20 @@ class _EndReader:
         grasp_angle = math.degrees(math.atan2(tangent[0], tangent[1])) % 180.0
         score = level / (1.0 + level)
         return Sighting(to_input(tip), end_angle, to_input(grasp), grasp_angle, score)
+
+
+def tip_tangent(head: np.ndarray, tip: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The unit direction into the wire at its tip, and the tip put on the wire's axis (a hooked
+    ridge end is off it), from a parabola fitted to the centre line's head: a wire that curves
+    near its end points at its tip, not along the chord of its first mm."""
+    chord = principal_direction(head)
+    if chord @ (head[-1] - head[0]) < 0:
+        chord = -chord
+    across = np.array([-chord[1], chord[0]])
+    t, y = (head - tip) @ chord, (head - tip) @ across
+    (a, b, _), *_ = np.linalg.lstsq(np.column_stack([np.ones_like(t), t, t * t]), y, rcond=None)
+    inward = chord + b * across
+    return inward / float(np.linalg.norm(inward)), tip + a * across
 
 
 _FAN = np.radians(np.linspace(-70, 70, 9))

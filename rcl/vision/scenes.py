@@ -350,7 +350,7 @@ def finish(scene: Scene, img: np.ndarray, rng) -> np.ndarray:
         img = ndimage.gaussian_filter(img, (scene.blur_px, scene.blur_px, 0))
     if scene.motion_px > 0:  # a smear motion_px + 1 px long, centred (no shift of the picture)
         span = scene.motion_px + 1.0
-        n = int(math.ceil(span)) | 1
+        n = math.ceil(span) | 1
         kernel = np.clip(span / 2 + 0.5 - np.abs(np.arange(n) - n // 2), 0.0, 1.0).astype(np.float32)
         img = ndimage.convolve1d(img, kernel / kernel.sum(), axis=int(rng.integers(2)))
     if scene.noise > 0:
