@@ -162,12 +162,16 @@ def test_tags_name_what_the_draw_holds():
 
 # The ridge finder ----------------------------------------------------------------------------
 
-def straight_wire_image(angle_deg: float = 20.0, tip_mm=(40.0, 60.0), size=512, ppm=4.0, colour=False):
-    """A 2 mm wire 70 mm long lying at angle_deg from its tip, on a plain board: its ground truth."""
+def straight_wire_image(angle_deg: float = 20.0, tip_mm=(40.0, 60.0), size=512, ppm=4.0, colour=False,
+                        radius_mm: float = math.inf):
+    """A 2 mm wire 70 mm long lying at angle_deg from its tip (bending along an arc of radius_mm),
+    on a plain board: its ground truth."""
     from rcl.vision.scenes import Scene, WireLook, finish, paint
 
     d = np.array([math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg))])
-    centre = np.array(tip_mm) + np.arange(0, 70.0, 0.5)[:, None] * d
+    heading = math.radians(angle_deg) + np.arange(0, 70.0, 0.5) / radius_mm
+    steps = 0.5 * np.column_stack([np.cos(heading), np.sin(heading)])
+    centre = np.array(tip_mm) + np.vstack([[0.0, 0.0], np.cumsum(steps, axis=0)[:-1]])
     wire = Wire(centre, 2.0, 0, (0.1,))
     board = (0.25, 0.55, 0.3) if colour else (0.8, 0.8, 0.8)
     scene = Scene(size, size, ppm, colour, 1, 1, ("straight",), (2.0, 2.0), ("red",), ("flat",), "plain", board,
@@ -195,6 +199,18 @@ def test_ridge_finds_a_lone_wire_end_its_direction_and_grasp(angle):
     grasp = np.array(s.grasp) / 4.0
     assert abs(np.linalg.norm(grasp - tip) - 15.0) < 0.6
     assert abs((s.grasp_angle - math.degrees(math.atan2(d[1], d[0])) + 90) % 180 - 90) < 4
+
+
+@pytest.mark.parametrize("radius", [15.0, -25.0])
+def test_ridge_gives_the_direction_at_the_tip_of_a_wire_curving_near_its_end(radius):
+    """The chord of the first 8 mm of a wire bending at a 15 mm radius is 15 degrees off the
+    direction at its tip: a press or a die needs the tip's own."""
+    image, centre, d = straight_wire_image(30.0, tip_mm=(30.0, 60.0), radius_mm=radius)
+    res = find_wires_ridge(image, 4.0)
+    ends = [s for s in res.candidates if np.linalg.norm(np.array(s.end) / 4.0 - centre[0]) < 1.0]
+    assert ends, res.rejected
+    a = math.radians(ends[0].end_angle)
+    assert np.dot([math.cos(a), math.sin(a)], d) > math.cos(math.radians(6))
 
 
 def test_ridge_sees_a_red_wire_on_a_green_board_that_grey_levels_barely_tell_apart():

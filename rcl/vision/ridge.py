@@ -26,7 +26,8 @@ only when what lies around it can be seen to be bare board.
    (under another wire), is refused.
 6. Free: the board must show beside the whole span, beyond the tip, and in a
    CLEARANCE_MM disc round the grasp point (room for the fingers).
-7. The sighting: the tip; the direction into the wire fitted over END_FIT_MM; the
+7. The sighting: the tip; the direction into the wire at the tip, fitted over END_FIT_MM
+   (along a parabola where the line bows); the
    grasp point GRASP_MM along the centre line, centred across the wire; the tangent
    there; candidates ordered by contrast and clearance.
 """
@@ -70,6 +71,7 @@ CONDUCTOR_WINDOW_MM = 1.0  # ... on average over this much of its length
 TIP_START_MM = 10.0  # the search for the tip starts this far in along the centre line: on the insulation
 END_FIT_MM = 8.0  # the end's direction is fitted over this much of the centre line
 END_SKIP_MM = 1.0  # ... less its first mm, where a ridge's end may hook
+TIP_BOW_PX = 0.3  # ... along a parabola where it bows this far from its chord, else along the chord
 TANGENT_MM = 2.5  # the tangent at the grasp point: over this much either side
 BOARD_FLOOR = 4.0  # contrast (spreads) below which a pixel may be bare board, whatever the wire
 TIP_SHARE = 0.5  # the tip: where the contrast falls below half the wire's (a blurred edge's middle; a shadow is fainter)
@@ -855,7 +857,10 @@ def tip_tangent(head: np.ndarray, tip: np.ndarray) -> tuple[np.ndarray, np.ndarr
         chord = -chord
     across = np.array([-chord[1], chord[0]])
     t, y = (head - tip) @ chord, (head - tip) @ across
-    (a, b, _), *_ = np.linalg.lstsq(np.column_stack([np.ones_like(t), t, t * t]), y, rcond=None)
+    (a, b, c), *_ = np.linalg.lstsq(np.column_stack([np.ones_like(t), t, t * t]), y, rcond=None)
+    if abs(c) * float(np.ptp(t)) ** 2 / 4 < TIP_BOW_PX:  # no bow to speak of: the chord, which is steadier
+        middle = head.mean(axis=0)
+        return chord, middle + chord * float((tip - middle) @ chord)
     inward = chord + b * across
     return inward / float(np.linalg.norm(inward)), tip + a * across
 
