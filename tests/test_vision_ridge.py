@@ -11,7 +11,7 @@ import pytest
 
 from rcl.camera import ImageError
 from rcl.vision import VisionError, find_wires
-from rcl.vision.ridge import find_wires_ridge, thin_sparse
+from rcl.vision.ridge import find_rim, find_wires_ridge, thin_sparse, working_image
 from rcl.vision.scenes import SLICES, draw_scene, random_tray, tags
 from rcl.vision.synth import (
     FINGER_CLEARANCE_MM,
@@ -211,6 +211,44 @@ def test_ridge_gives_the_direction_at_the_tip_of_a_wire_curving_near_its_end(rad
     assert ends, res.rejected
     a = math.radians(ends[0].end_angle)
     assert np.dot([math.cos(a), math.sin(a)], d) > math.cos(math.radians(6))
+
+
+def test_a_rim_is_told_from_wires_and_grid_lines_along_the_frame():
+    rng = np.random.default_rng(5)
+    board = 0.6 + rng.normal(0, 0.01, (300, 400, 3))
+    rimmed = board.copy()
+    rimmed[:, :30] = (0.3, 0.35, 0.3)  # a rim 30 px wide along the left side
+    rimmed[:24, :] = (0.75, 0.7, 0.6)  # and another along the top
+    out = find_rim(rimmed.astype(np.float32), 4.0)
+    assert out[30:, :29].all() and out[:23, 30:].all()  # the rims
+    assert not out[40:, 33:].any()  # and nothing of the board
+    wire = board.copy()
+    wire[:, 12:20] = 0.1  # a wire lying along the side, 3 mm in
+    grid = board.copy()
+    grid[:, 10::40] = grid[5::40, :] = 0.5  # a cutting mat's grid lines
+    for image in (board, wire, grid):
+        assert not find_rim(image.astype(np.float32), 4.0).any()
+
+
+@pytest.mark.parametrize("gap_mm, free", [(5.0, True), (1.5, False)])
+def test_ridge_takes_an_end_near_a_rim_and_refuses_one_at_it(gap_mm, free):
+    image, centre, _ = straight_wire_image(0.0, tip_mm=(10.0 + gap_mm, 60.0))
+    image[:, :40] = 0.35  # a rim along the left side, 10 mm wide
+    res = find_wires_ridge(image, 4.0)
+    near = [s for s in res.candidates if np.linalg.norm(np.array(s.end) / 4.0 - centre[0]) < 1.0]
+    if free:
+        assert near, res.rejected
+    else:
+        assert not near and any("tray's rim" in why for _, why in res.rejected)
+
+
+def test_the_cells_bench_round_the_tray_is_seen_as_off_the_tray():
+    from rcl.cell import SimCell, load_config
+
+    image = SimCell(load_config(), seed=2).camera.grab()
+    work, k = working_image(image, 512 / 140)
+    out = find_rim(work, 512 / 140 / k)
+    assert out[:3, :3].all() and out[-3:, -3:].all() and not out[100:-100, 100:-100].any()
 
 
 def test_ridge_sees_a_red_wire_on_a_green_board_that_grey_levels_barely_tell_apart():

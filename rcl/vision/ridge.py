@@ -7,7 +7,9 @@ wire beside a black one and a copper tip all stand out alike; it finds centre
 lines as ridges of that contrast at the scales wires have, and it takes an end
 only when what lies around it can be seen to be bare board.
 
-1. The working image: k x k block averaging to 2-4 px/mm, colour kept.
+1. The working image: k x k block averaging to 2-4 px/mm, colour kept; a tray's rim
+   (or the bench round the tray) along a side of the frame found (find_rim): what
+   lies beyond it is off the tray.
 2. Contrast: the board's colour is estimated per BOARD_BLOCK_MM block (the median,
    then the median of each 3 x 3 blocks, so blocks full of wire are outvoted) and
    subtracted; each channel is divided by its own robust spread (noise and board
@@ -34,10 +36,12 @@ only when what lies around it can be seen to be bare board.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from functools import lru_cache
 
 import numpy as np
+from numpy.lib.stride_tricks import sliding_window_view
 
 from ..camera.images import ImageError
 from .common import FRAME_MARGIN_MM, Clock, block_average, principal_direction
@@ -81,6 +85,15 @@ FADE_FLOOR = 2.5  # ... and so does this much (spreads): bare board beyond an en
 RUN_MM = 0.6  # beside the span: contrast this long along the wire is something there
 CAP_HITS = 3  # beyond the tip and round the grasp point: so many samples with contrast are something
 DISC_HITS = 4
+RIM_SCAN_MM = 25.0  # a tray's rim (or the bench round the tray) is looked for this far in from each side
+RIM_MIN_MM = 1.5  # ... at least this wide
+RIM_SEGMENT_MM = 8.0  # ... in segments of the side this long: each its own profile (a median across it)
+RIM_BOARD_MM = 3.0  # ... against this much board next to it
+RIM_STEP = 0.03  # ... differing from the board by this much (0-1 colour)
+RIM_CLEAR = 4.0  # ... this many times more than the band or the board varies
+RIM_SHARE = 0.6  # ... along this share of the side's segments
+RIM_BEND_PX = 1.5  # ... on one smooth curve (a lens bows a straight rim) to within this
+RIM_EDGE_MM = 1.0  # the blur of a rim's edge: samples this near it say nothing of what lies round an end
 ENOUGH = 1  # candidates to find before the search stops (0: all)
 
 _COS_CONE = math.cos(math.radians(GAP_CONE_DEG))
@@ -132,10 +145,11 @@ class Contrast:
     unit: np.ndarray
 
 
-def contrast(work: np.ndarray, wppm: float) -> Contrast:
+def contrast(work: np.ndarray, wppm: float, outside: np.ndarray | None = None) -> Contrast:
     """The contrast F: the board's colour estimated per BOARD_BLOCK_MM block (the median, then the
     median of 3 x 3 blocks, so blocks full of wire are outvoted), subtracted, each channel divided
-    by its own robust spread, then the root mean square over the channels."""
+    by its own robust spread, then the root mean square over the channels. Pixels `outside` the
+    tray (a rim, the bench round it) have no say in the board and no contrast."""
     from scipy import ndimage
 
     h, w, ch = work.shape
@@ -145,7 +159,20 @@ def contrast(work: np.ndarray, wppm: float) -> Contrast:
     sub = work[:nby * bh:3, :nbx * bw:3]
     sh, sw = sub.shape[0] // nby, sub.shape[1] // nbx
     blocks = sub[:nby * sh, :nbx * sw].reshape(nby, sh, nbx, sw, ch).transpose(0, 2, 1, 3, 4).reshape(nby, nbx, -1, ch)
-    board = np.median(blocks, axis=2)
+    if outside is not None and outside.any():
+        off = outside[:nby * bh:3, :nbx * bw:3][:nby * sh, :nbx * sw]
+        off = off.reshape(nby, sh, nbx, sw).transpose(0, 2, 1, 3).reshape(nby, nbx, -1)
+        with warnings.catch_warnings():  # a block wholly off the tray has no median: NaN, filled below
+            warnings.simplefilter("ignore", RuntimeWarning)
+            board = np.nanmedian(np.where(off[..., None], np.nan, blocks), axis=2)
+        empty = np.isnan(board[..., 0])
+        if empty.all():
+            board = np.median(blocks, axis=2)
+        elif empty.any():  # a block wholly off the tray takes the nearest block's board
+            idx = ndimage.distance_transform_edt(empty, return_distances=False, return_indices=True)
+            board = board[idx[0], idx[1]]
+    else:
+        board = np.median(blocks, axis=2)
     if nby >= 3 and nbx >= 3:
         board = ndimage.median_filter(board, size=(3, 3, 1), mode="nearest")
     # bilinear enlargement by two small matrix products per channel
@@ -155,15 +182,22 @@ def contrast(work: np.ndarray, wppm: float) -> Contrast:
     for c in range(ch):
         under[:, :, c] = ay @ board[:, :, c] @ ax.T
     diff = work - under
-    spread = np.maximum(1.4826 * np.median(np.abs(diff[::4, ::4].reshape(-1, ch)), axis=0), MIN_SPREAD)
+    sample = diff[::4, ::4].reshape(-1, ch)
+    if outside is not None and outside.any() and not outside.all():
+        sample = sample[~outside[::4, ::4].ravel()]
+    spread = np.maximum(1.4826 * np.median(np.abs(sample), axis=0), MIN_SPREAD)
     unit = (1.0 / (spread * np.sqrt(ch))).astype(np.float32)
     diff *= unit
     if ch == 1:
-        return Contrast(np.abs(diff[:, :, 0]), work, under, unit)
-    f = diff[:, :, 0] * diff[:, :, 0]
-    for c in range(1, ch):
-        f += diff[:, :, c] * diff[:, :, c]
-    return Contrast(np.sqrt(f), work, under, unit)
+        f = np.abs(diff[:, :, 0])
+    else:
+        f = diff[:, :, 0] * diff[:, :, 0]
+        for c in range(1, ch):
+            f += diff[:, :, c] * diff[:, :, c]
+        f = np.sqrt(f)
+    if outside is not None:
+        f[outside] = 0.0
+    return Contrast(f, work, under, unit)
 
 
 def shadow_free(con: Contrast, p: np.ndarray, b: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -385,7 +419,9 @@ def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = EN
     wppm = px_per_mm / k
     result.scale = k
     clock("average")
-    con = contrast(work, wppm)
+    outside = find_rim(work, wppm)
+    clock("rim")
+    con = contrast(work, wppm, outside)
     f = con.f
     clock("contrast")
     flat = SATURATION * np.tanh(f * (1.0 / SATURATION))  # a wire's body, not its highlight, makes the ridge
@@ -397,7 +433,7 @@ def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = EN
     graph.prune_spurs()
     result.skeleton = graph.skeleton
     clock("graph")
-    reader = _EndReader(con, flat, fine, graph, wppm, k, result)
+    reader = _EndReader(con, flat, fine, graph, wppm, k, result, outside)
     ordered = graph.ends_in_order(f)
     for end in graph.short:
         reader.refuse(graph.rc(int(end)), "its line meets another or stops within 20 mm")
@@ -411,6 +447,81 @@ def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = EN
     clock("ends")
     result.timings["total"] = (clock.last - began) * 1000.0
     return result
+
+
+def find_rim(work: np.ndarray, wppm: float) -> np.ndarray:
+    """Where the frame shows a tray's rim or the bench round the tray, (rows, cols) bool: along a
+    side, a band from the frame's edge of one even colour that gives way, on one smooth curve, to
+    a different, even board. What lies there is not on the tray: ends near it are refused as at
+    the frame's border, and it is neither board nor a thing round an end."""
+    h, w = work.shape[:2]
+    outside = np.zeros((h, w), bool)
+    views = (
+        (lambda a: a, lambda m: m),
+        (lambda a: a[:, ::-1], lambda m: m[:, ::-1]),
+        (lambda a: a.transpose(1, 0, 2), lambda m: m.T),
+        (lambda a: a[::-1].transpose(1, 0, 2), lambda m: m[::-1].T),
+    )
+    for view, mview in views:
+        v = view(work)
+        n, m = v.shape[:2]
+        depth = min(int(0.2 * m), int(RIM_SCAN_MM * wppm))
+        seg = max(int(RIM_SEGMENT_MM * wppm), 4)
+        board = max(int(RIM_BOARD_MM * wppm), 3)
+        kmin = max(int(RIM_MIN_MM * wppm), 2)
+        gap = max(round(RIM_EDGE_MM * wppm), 2)
+        nseg = n // seg
+        if depth < kmin + board + gap + 2 or nseg < 3:
+            continue
+        prof = np.median(v[:nseg * seg, :depth].reshape(nseg, seg, depth, -1), axis=1)  # (nseg, depth, c)
+        edges = _steps(prof, kmin, board, gap)
+        ok = np.isfinite(edges)
+        if ok.mean() < RIM_SHARE:
+            continue
+        centres = np.arange(nseg) * seg + seg / 2
+        coef = np.polyfit(centres[ok], edges[ok], 2)
+        ok &= np.abs(np.polyval(coef, centres) - np.nan_to_num(edges)) <= RIM_BEND_PX
+        if ok.mean() < RIM_SHARE:
+            continue
+        coef = np.polyfit(centres[ok], edges[ok], 2)
+        k = np.clip(np.polyval(coef, np.arange(n)) + 1.0, 0, depth)
+        mv = mview(outside)
+        mv |= np.arange(m)[None, :] < k[:, None]
+    return outside
+
+
+def _steps(prof: np.ndarray, kmin: int, board: int, gap: int) -> np.ndarray:
+    """Per segment's profile (nseg, depth, channels) from the frame's edge inward: where an even
+    band from the edge (its first k columns) gives way, across a blurred edge `gap` columns
+    wide, to an even board of another colour; NaN where it does not."""
+    nseg, d, _ = prof.shape
+    ks = np.arange(kmin, d - board - gap)
+    if not len(ks):
+        return np.full(nseg, np.nan)
+    band = np.cumsum(prof, axis=1)[:, ks - 1] / ks[None, :, None]  # the mean of the first k columns
+    hi = np.maximum.accumulate(prof, axis=1)[:, ks - 1]
+    lo = np.minimum.accumulate(prof, axis=1)[:, ks - 1]
+    band_spread = np.maximum(hi - band, band - lo).max(axis=2)
+    pad = np.concatenate([prof, np.repeat(prof[:, -1:], 3 * board, axis=1)], axis=1)
+    b = np.median(sliding_window_view(pad, board, axis=1)[:, ks + gap], axis=3)  # (nseg, K, channels)
+    wide = sliding_window_view(pad, 3 * board, axis=1)[:, ks + gap]
+    board_spread = np.maximum(wide.max(axis=3) - b, b - wide.min(axis=3)).max(axis=2)
+    step = np.abs(band - b).max(axis=2)
+    score = step / np.maximum(np.maximum(band_spread, board_spread), 0.01)
+    score = np.where((step >= RIM_STEP) & (score >= RIM_CLEAR), score, 0.0)
+    best = score.argmax(axis=1)
+    edges = np.full(nseg, np.nan)
+    for i in np.flatnonzero(score.max(axis=1) > 0):  # the edge: where the profile is half-way across
+        j = best[i]
+        a, z = band[i, j], b[i, j]
+        c = int(np.argmax(np.abs(z - a)))
+        part = (prof[i, :, c] - a[c]) / (z[c] - a[c])
+        beyond = np.flatnonzero(part[ks[j]:] >= 0.5)
+        if beyond.size:
+            e = ks[j] + int(beyond[0])
+            p0, p1 = part[e - 1], part[e]
+            edges[i] = e - 1 + (0.5 - p0) / max(p1 - p0, 1e-6)
+    return edges
 
 
 class _Graph:
@@ -555,7 +666,7 @@ class _EndReader:
     """Reads one centre-line end: classify it, follow its tip, check it is free, make a Sighting."""
 
     def __init__(self, con: Contrast, flat: np.ndarray, fine: np.ndarray, graph: _Graph, wppm: float, k: int,
-                 result: RidgeResult) -> None:
+                 result: RidgeResult, outside: np.ndarray | None = None) -> None:
         self.con = con
         self.f = con.f  # the contrast
         self.g = graph
@@ -567,6 +678,19 @@ class _EndReader:
         # scale's ridge strength
         self.layers = (con.f, flat, fine)
         self.shadows = False  # whether shadows round the wire being read are told from things (set by read)
+        self.rim = None  # how far (working px) each pixel lies from a rim or bench the frame shows, if any
+        if outside is not None and outside.any():
+            from scipy import ndimage
+
+            self.rim = ndimage.distance_transform_edt(~outside).astype(np.float32)
+
+    def off_tray(self, pts: np.ndarray, margin: float) -> np.ndarray:
+        """Which points lie within margin (working px) of a rim or bench the frame shows."""
+        if self.rim is None:
+            return np.zeros(len(pts), bool)
+        r = np.clip(np.round(pts[:, 0]).astype(int), 0, self.h - 1)
+        c = np.clip(np.round(pts[:, 1]).astype(int), 0, self.w - 1)
+        return self.rim[r, c] < margin
 
     def refuse(self, at, why: str) -> None:
         r, c = at
@@ -650,6 +774,8 @@ class _EndReader:
         r, c = tip
         if r < border or c < border or r > self.h - 1 - border or c > self.w - 1 - border:
             return self.refuse(start, "its end is at the frame's border")
+        if self.off_tray(tip[None, :], border)[0]:
+            return self.refuse(start, "its end is at the tray's rim")
         # the centre line from the tip, and the grasp point GRASP_MM along it
         full = self.recentred(_resample(np.vstack([tip[None, :], ext[es > tip_s + 0.5]]), 1.0), width)
         s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(full, axis=0), axis=1))])
@@ -657,6 +783,8 @@ class _EndReader:
             return self.refuse(start, "too little wire past its end")
         if np.any(full < border) or np.any(full[:, 0] > self.h - 1 - border) or np.any(full[:, 1] > self.w - 1 - border):
             return self.refuse(start, "the wire runs off the frame near its end")
+        if self.off_tray(full, border).any():
+            return self.refuse(start, "the wire runs to the tray's rim near its end")
         head = full[(s >= END_SKIP_MM * mm) & (s <= END_FIT_MM * mm)]
         if len(head) >= 5:  # the direction at the tip itself (a ridge may bend as it overshoots the end)
             inward, on_axis = tip_tangent(head, full[0])
@@ -804,6 +932,9 @@ class _EndReader:
         pts = np.vstack((band, cap, disc))
         inside = (pts[:, 0] >= 0) & (pts[:, 1] >= 0) & (pts[:, 0] <= self.h - 1) & (pts[:, 1] <= self.w - 1)
         values = self.around(pts)
+        if self.rim is not None:  # a rim or the bench round the tray is neither board nor a thing there
+            inside &= ~self.off_tray(pts, RIM_EDGE_MM * mm)
+            values = np.where(inside, values, 0.0)
         hit = (values >= board) & inside
         nb, nc = len(band), len(cap)
         # straight on past the tip, even a faint contrast that goes on is the wire going on into
