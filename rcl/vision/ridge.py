@@ -41,7 +41,6 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 
 import numpy as np
-from numpy.lib.stride_tricks import sliding_window_view
 
 from ..camera.images import ImageError
 from .common import FRAME_MARGIN_MM, Clock, block_average, principal_direction
@@ -466,14 +465,15 @@ def find_rim(work: np.ndarray, wppm: float) -> np.ndarray:
         v = view(work)
         n, m = v.shape[:2]
         depth = min(int(0.2 * m), int(RIM_SCAN_MM * wppm))
-        seg = max(int(RIM_SEGMENT_MM * wppm), 4)
+        seg = max(int(RIM_SEGMENT_MM * wppm), 4) // 2 * 2
         board = max(int(RIM_BOARD_MM * wppm), 3)
         kmin = max(int(RIM_MIN_MM * wppm), 2)
         gap = max(round(RIM_EDGE_MM * wppm), 2)
         nseg = n // seg
         if depth < kmin + board + gap + 2 or nseg < 3:
             continue
-        prof = np.median(v[:nseg * seg, :depth].reshape(nseg, seg, depth, -1), axis=1)  # (nseg, depth, c)
+        rows = v[:nseg * seg:2, :depth]  # every other row: a median across 8 mm needs no more
+        prof = np.median(rows.reshape(nseg, -1, depth, rows.shape[2]), axis=1)  # (nseg, depth, channels)
         edges = _steps(prof, kmin, board, gap)
         ok = np.isfinite(edges)
         if ok.mean() < RIM_SHARE:
@@ -502,10 +502,15 @@ def _steps(prof: np.ndarray, kmin: int, board: int, gap: int) -> np.ndarray:
     hi = np.maximum.accumulate(prof, axis=1)[:, ks - 1]
     lo = np.minimum.accumulate(prof, axis=1)[:, ks - 1]
     band_spread = np.maximum(hi - band, band - lo).max(axis=2)
+    from scipy import ndimage
+
     pad = np.concatenate([prof, np.repeat(prof[:, -1:], 3 * board, axis=1)], axis=1)
-    b = np.median(sliding_window_view(pad, board, axis=1)[:, ks + gap], axis=3)  # (nseg, K, channels)
-    wide = sliding_window_view(pad, 3 * board, axis=1)[:, ks + gap]
-    board_spread = np.maximum(wide.max(axis=3) - b, b - wide.min(axis=3)).max(axis=2)
+    cs = np.concatenate([np.zeros_like(pad[:, :1]), np.cumsum(pad, axis=1)], axis=1)
+    b = (cs[:, ks + gap + board] - cs[:, ks + gap]) / board  # the board next to it: (nseg, K, channels)
+    # the most and least over the 3 * board columns from ks + gap (the filters centre their window)
+    most = ndimage.maximum_filter1d(pad, 3 * board, axis=1, origin=-(3 * board // 2))[:, ks + gap]
+    least = ndimage.minimum_filter1d(pad, 3 * board, axis=1, origin=-(3 * board // 2))[:, ks + gap]
+    board_spread = np.maximum(most - b, b - least).max(axis=2)
     step = np.abs(band - b).max(axis=2)
     score = step / np.maximum(np.maximum(band_spread, board_spread), 0.01)
     score = np.where((step >= RIM_STEP) & (score >= RIM_CLEAR), score, 0.0)
