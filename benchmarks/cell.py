@@ -145,6 +145,9 @@ def _kind(f: dict) -> str:
                 "off its axis", "into the die", "slipped", "let go", "above the tray"):
         if key in why:
             return f"{f['what']}: {key}"
+    for key, what in (("pushed", "the end too deep"), ("only", "the end not deep enough")):
+        if key in why:
+            return f"{f['what']}: {what}"
     return f"{f['what']}: {why[:40]}"
 
 
