@@ -155,12 +155,16 @@ def contrast(work: np.ndarray, wppm: float, outside: np.ndarray | None = None) -
     b = max(round(BOARD_BLOCK_MM * wppm), 4)
     nby, nbx = max(h // b, 1), max(w // b, 1)
     bh, bw = h // nby, w // nbx
-    sub = work[:nby * bh:3, :nbx * bw:3]
-    sh, sw = sub.shape[0] // nby, sub.shape[1] // nbx
-    blocks = sub[:nby * sh, :nbx * sw].reshape(nby, sh, nbx, sw, ch).transpose(0, 2, 1, 3, 4).reshape(nby, nbx, -1, ch)
+    sh, sw = len(range(0, nby * bh, 3)) // nby, len(range(0, nbx * bw, 3)) // nbx
+
+    def blocked(a: np.ndarray) -> np.ndarray:
+        """Every third pixel of each block: (nby, nbx, samples, channels)."""
+        sub = a[:nby * bh:3, :nbx * bw:3][:nby * sh, :nbx * sw]
+        return sub.reshape(nby, sh, nbx, sw, -1).transpose(0, 2, 1, 3, 4).reshape(nby, nbx, sh * sw, -1)
+
+    blocks = blocked(work)
     if outside is not None and outside.any():
-        off = outside[:nby * bh:3, :nbx * bw:3][:nby * sh, :nbx * sw]
-        off = off.reshape(nby, sh, nbx, sw).transpose(0, 2, 1, 3).reshape(nby, nbx, -1)
+        off = blocked(outside[..., None])[..., 0]
         with warnings.catch_warnings():  # a block wholly off the tray has no median: NaN, filled below
             warnings.simplefilter("ignore", RuntimeWarning)
             board = np.nanmedian(np.where(off[..., None], np.nan, blocks), axis=2)
@@ -453,16 +457,11 @@ def find_rim(work: np.ndarray, wppm: float) -> np.ndarray:
     side, a band from the frame's edge of one even colour that gives way, on one smooth curve, to
     a different, even board. What lies there is not on the tray: ends near it are refused as at
     the frame's border, and it is neither board nor a thing round an end."""
-    h, w = work.shape[:2]
-    outside = np.zeros((h, w), bool)
-    views = (
-        (lambda a: a, lambda m: m),
-        (lambda a: a[:, ::-1], lambda m: m[:, ::-1]),
-        (lambda a: a.transpose(1, 0, 2), lambda m: m.T),
-        (lambda a: a[::-1].transpose(1, 0, 2), lambda m: m[::-1].T),
-    )
-    for view, mview in views:
-        v = view(work)
+    outside = np.zeros(work.shape[:2], bool)
+    # each side seen as the left one: rows along it, columns inward (views, so the mask is written through)
+    sides = (lambda a: a, lambda a: a[:, ::-1], lambda a: a.swapaxes(0, 1), lambda a: a[::-1].swapaxes(0, 1))
+    for side in sides:
+        v = side(work)
         n, m = v.shape[:2]
         depth = min(int(0.2 * m), int(RIM_SCAN_MM * wppm))
         seg = max(int(RIM_SEGMENT_MM * wppm), 4) // 2 * 2
@@ -485,8 +484,8 @@ def find_rim(work: np.ndarray, wppm: float) -> np.ndarray:
             continue
         coef = np.polyfit(centres[ok], edges[ok], 2)
         k = np.clip(np.polyval(coef, np.arange(n)) + 1.0, 0, depth)
-        mv = mview(outside)
-        mv |= np.arange(m)[None, :] < k[:, None]
+        mask = side(outside)
+        mask |= np.arange(m)[None, :] < k[:, None]
     return outside
 
 
@@ -494,6 +493,8 @@ def _steps(prof: np.ndarray, kmin: int, board: int, gap: int) -> np.ndarray:
     """Per segment's profile (nseg, depth, channels) from the frame's edge inward: where an even
     band from the edge (its first k columns) gives way, across a blurred edge `gap` columns
     wide, to an even board of another colour; NaN where it does not."""
+    from scipy import ndimage
+
     nseg, d, _ = prof.shape
     ks = np.arange(kmin, d - board - gap)
     if not len(ks):
@@ -502,8 +503,6 @@ def _steps(prof: np.ndarray, kmin: int, board: int, gap: int) -> np.ndarray:
     hi = np.maximum.accumulate(prof, axis=1)[:, ks - 1]
     lo = np.minimum.accumulate(prof, axis=1)[:, ks - 1]
     band_spread = np.maximum(hi - band, band - lo).max(axis=2)
-    from scipy import ndimage
-
     pad = np.concatenate([prof, np.repeat(prof[:, -1:], 3 * board, axis=1)], axis=1)
     cs = np.concatenate([np.zeros_like(pad[:, :1]), np.cumsum(pad, axis=1)], axis=1)
     b = (cs[:, ks + gap + board] - cs[:, ks + gap]) / board  # the board next to it: (nseg, K, channels)
