@@ -36,6 +36,17 @@ def test_material_distance_is_the_distance_to_a_flat_ended_capsule():
                                atol=0.02)
 
 
+def test_a_resampled_line_runs_evenly_from_end_to_end():
+    from rcl.vision.synth import resample
+
+    for length in (278.0, 10.0, 10.1, 0.1, 69.5 * 4):  # whole numbers of steps too (no repeated end)
+        pts = np.array([[0.0, 0.0], [length * 0.6, length * 0.8]])
+        d = resample(pts, 0.25)
+        gaps = np.linalg.norm(np.diff(d, axis=0), axis=1)
+        np.testing.assert_allclose(d[[0, -1]], pts, atol=1e-9)
+        assert gaps.max() <= 0.25 + 1e-9 and gaps.min() > 0.9 * gaps.max(), length
+
+
 def test_random_trays_are_seeded_and_vary():
     a, b, c = random_tray(11), random_tray(11), random_tray(12)
     assert np.array_equal(a.image, b.image) and not np.array_equal(a.image[:10, :10], c.image[:10, :10])
@@ -277,7 +288,29 @@ def test_ridge_refuses_an_end_cut_by_the_frame_and_one_crowded_by_another_wire()
     res = find_wires_ridge(image, 4.0, enough=0)
     for s in res.candidates:
         assert np.linalg.norm(np.array(s.end) / 4.0 - [40.0, 64.0]) > 3.0  # a's left end is crossed near it
-        assert np.linalg.norm(np.array(s.end) / 4.0 - [48.0, 30.0]) > 3.0 or True
+    assert any(np.linalg.norm(np.array(s.end) / 4.0 - [48.0, 30.0]) < 1.0 for s in res.candidates)  # b's top is free
+
+
+def test_ridge_takes_the_end_with_the_most_room_round_it():
+    # two free ends: a black wire's, with another running beside its first 6 mm, 3 mm from its
+    # side (clear of the free test but close), read first (the stronger contrast), and a grey
+    # wire's alone; the lone end comes first, the other still a candidate
+    from rcl.vision.scenes import Scene, WireLook, finish, paint
+    along = np.arange(0, 110.0, 0.5)[:, None]  # on past the frame's right side
+    near = Wire(np.array([30.0, 40.0]) + along * [1.0, 0.0], 2.0, 0, (0.1,))
+    past = Wire(np.array([-5.0, 45.0]) + np.arange(0, 41.0, 0.5)[:, None] * [1.0, 0.0], 2.0, 0, (0.1,))
+    alone = Wire(np.array([40.0, 100.0]) + along * [1.0, 0.0], 2.0, 0, (0.1,))
+    scene = Scene(512, 512, 4.0, False, 3, 1, ("straight",), (2.0, 2.0), ("black",), ("flat",), "plain",
+                  (0.8, 0.8, 0.8), 0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 0.0, 0.0, 0.0, 0.01, 0, False, 0, 0.0, False)
+    black = WireLook("black", (0.15, 0.15, 0.15), ("flat", "flat"), (0.0, 0.0), 0.0)
+    grey = WireLook("grey", (0.5, 0.5, 0.5), ("flat", "flat"), (0.0, 0.0), 0.0)
+    under = np.full((512, 512, 3), 0.8, np.float32)
+    image = finish(scene, paint(scene, [near, past, alone], [black, black, grey], under), np.random.default_rng(2))
+    res = find_wires_ridge(image, 4.0)
+    ends = [np.array(s.end) / 4.0 for s in res.candidates]
+    assert len(ends) >= 2 and np.linalg.norm(ends[0] - [40.0, 100.0]) < 1.0, ends
+    assert any(np.linalg.norm(e - [30.0, 40.0]) < 1.0 for e in ends), ends
+    assert res.candidates[0].score > max(s.score for s in res.candidates[1:])
 
 
 def test_ridge_copes_with_blank_noise_tiny_and_bad_images():
@@ -318,9 +351,9 @@ def first_picks(method: str, seeds) -> dict:
 
 def test_ridge_on_randomized_trays_it_was_not_tuned_on():
     # 40 trays at seeds the finder was not tuned on (tuning used seeds below 2000); measured
-    # 33 correct, 3 foul, 4 miss (31 / 5 / 4 a version earlier): the bars fail on a real regression
+    # 35 correct, 2 foul, 3 miss (33 / 3 / 4 a version earlier): the bars fail on a real regression
     c = first_picks("ridge", range(7000, 7040))
-    assert c["correct"] >= 31 and c["foul"] <= 5, c
+    assert c["correct"] >= 33 and c["foul"] <= 4, c
 
 
 def test_ridge_beats_the_papers_systems_on_randomized_trays():

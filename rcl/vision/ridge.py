@@ -31,7 +31,10 @@ only when what lies around it can be seen to be bare board.
 7. The sighting: the tip; the direction into the wire at the tip, fitted over END_FIT_MM
    (along a parabola where the line bows); the
    grasp point GRASP_MM along the centre line, centred across the wire; the tangent
-   there; candidates ordered by contrast and clearance.
+   there. Of the first ENOUGH free ends, the one with the most room round it comes first:
+   the least contrast, relative to the board's threshold, in bands 1-3 mm out beside
+   its span, beyond its tip and round the grasp point (a nearby wire the free test
+   just missed makes an end a worse bet).
 """
 from __future__ import annotations
 
@@ -71,6 +74,7 @@ CONDUCTOR_RIDGE = 1.5  # the finest scale's ridge strength that marks a thin con
 CONDUCTOR_CONTRAST = 1.2  # a faint conductor: its axis this far (spreads) above the board beside it
 CONDUCTOR_MIN_MM = 2.5  # ... at least this long (a shorter one is the blur or the shadow of the end)
 CONDUCTOR_WINDOW_MM = 1.0  # ... on average over this much of its length
+CONDUCTOR_NARROW = 0.7  # ... and narrower than the wire: 0.45 of its width off the axis, less than this share of it
 TIP_START_MM = 10.0  # the search for the tip starts this far in along the centre line: on the insulation
 END_FIT_MM = 8.0  # the end's direction is fitted over this much of the centre line
 END_SKIP_MM = 1.0  # ... less its first mm, where a ridge's end may hook
@@ -84,6 +88,9 @@ FADE_FLOOR = 2.5  # ... and so does this much (spreads): bare board beyond an en
 RUN_MM = 0.6  # beside the span: contrast this long along the wire is something there
 CAP_HITS = 3  # beyond the tip and round the grasp point: so many samples with contrast are something
 DISC_HITS = 4
+ROOM_BAND_MM = (1.0, 2.0, 3.0)  # the room round a free end: bands this far out from the wire's edges along the span
+ROOM_CAP_MM = (1.5, 3.0)  # ... arcs this far beyond its tip
+ROOM_PERCENTILE = 95.0  # ... each band and the disc round the grasp point judged by its nearly-highest contrast
 RIM_SCAN_MM = 25.0  # a tray's rim (or the bench round the tray) is looked for this far in from each side
 RIM_MIN_MM = 1.5  # ... at least this wide
 RIM_SEGMENT_MM = 8.0  # ... in segments of the side this long: each its own profile (a median across it)
@@ -93,7 +100,7 @@ RIM_CLEAR = 4.0  # ... this many times more than the band or the board varies
 RIM_SHARE = 0.6  # ... along this share of the side's segments
 RIM_BEND_PX = 1.5  # ... on one smooth curve (a lens bows a straight rim) to within this
 RIM_EDGE_MM = 1.0  # the blur of a rim's edge: samples this near it say nothing of what lies round an end
-ENOUGH = 1  # candidates to find before the search stops (0: all)
+ENOUGH = 4  # free ends to find before the search stops (0: all); the roomiest is taken
 
 _COS_CONE = math.cos(math.radians(GAP_CONE_DEG))
 # 8-neighbour offsets (row, col), clockwise from E
@@ -800,8 +807,9 @@ class _EndReader:
         why = self.crowded(full, s, tip, out, grasp, width, board, level)
         if why:
             return self.refuse(start, why)
+        clutter = self.clutter(full, tip, out, grasp, width, board)
         grasp = self.centred(grasp, tangent, width)
-        return self.sighting(on_axis, inward, grasp, tangent, level, width)
+        return self.sighting(on_axis, inward, grasp, tangent, 1.0 / (1.0 + clutter))
 
     def casts_shadow(self, line: np.ndarray, width: float) -> bool:
         """Whether the wire casts a shadow that can be told from it: its own centre line does not
@@ -829,7 +837,8 @@ class _EndReader:
         mm = self.wppm
         steps = np.arange(0.5, TIP_MAX_MM * mm, 0.5)
         side = np.array([-out[1], out[0]])
-        lateral = np.array([-0.2 * width, 0.0, 0.2 * width, -(width / 2 + mm), width / 2 + mm])
+        lateral = np.array([-0.2 * width, 0.0, 0.2 * width, -(width / 2 + mm), width / 2 + mm, -0.45 * width,
+                            0.45 * width])
         pts = end + steps[:, None, None] * out + lateral[None, :, None] * side
         flat_pts = pts.reshape(-1, 2)
         if self.shadows:  # board in shadow beyond the tip is no conductor, unless a sharp ridge runs on it
@@ -838,24 +847,32 @@ class _EndReader:
         else:
             v = self.sample(flat_pts)
         v = v.reshape(len(steps), len(lateral))
-        rise = v[:, :3].max(axis=1) - v[:, 3:].mean(axis=1)  # a thin conductor may lie off the axis
+        board = v[:, 3:5].mean(axis=1)
+        rise = v[:, :3].max(axis=1) - board  # a thin conductor may lie off the axis
         n = max(round(CONDUCTOR_WINDOW_MM * mm * 2), 1)
         mean = ndimage.uniform_filter1d(rise, n, mode="nearest")  # over the window centred on each step
-        on = (mean >= CONDUCTOR_CONTRAST) & (rise >= 0.5 * CONDUCTOR_CONTRAST)
+        # a dip shorter than half the window is no gap: a line thinner than two pixels comes and
+        # goes as it crosses the pixel grid (and strands or JPEG blocks break it up)
+        held = ndimage.maximum_filter1d(rise, max(n // 2, 1), mode="nearest")
+        on = (mean >= CONDUCTOR_CONTRAST) & (held >= 0.5 * CONDUCTOR_CONTRAST)
         off = np.flatnonzero(~on)
         run = int(off[0]) if off.size else len(on)
         if run < n or steps[run - 1] < CONDUCTOR_MIN_MM * mm:
             return end  # nothing that runs on far enough: the blur of the end itself, or its shadow
+        if np.median(v[:run, 5:7].mean(axis=1) - board[:run]) > CONDUCTOR_NARROW * np.median(rise[:run]):
+            return end  # as wide as the wire: the end's shadow or the blur of a rounded end
         # its tip, as the insulation's: where its own contrast falls to TIP_SHARE of what it is
-        # along it (the run's threshold is low, so it ends in the tail of the tip's blur)
-        own = float(np.median(rise[:run]))
+        # along it; over half the window, as the dips are no gap (an average over a centred
+        # window crosses a step's half height where it steps)
+        short = ndimage.uniform_filter1d(rise, max(n // 2, 1), mode="nearest")
+        own = float(np.median(short[:run]))
         edge = max(CONDUCTOR_CONTRAST, TIP_SHARE * own)
-        low = np.flatnonzero(rise[:run] < edge)
+        low = np.flatnonzero(short[:run] < edge)
         low = low[low >= n]  # not in the tip's own first window
         i = int(low[0]) if low.size else run
         if i >= run:
             return end + out * steps[run - 1]
-        a, b = rise[i - 1], rise[i]
+        a, b = short[i - 1], short[i]
         frac = float(np.clip((a - edge) / max(a - b, 1e-6), 0, 1))
         return end + out * (steps[i - 1] + frac * 0.5)
 
@@ -926,20 +943,9 @@ class _EndReader:
         dirs = _fan(out)
         cap = (tip[None, None, :] + (half + np.array([0.7, 1.0, 1.4, 2.0, 2.8]) * SIDE_FREE_MM * mm)[None, :, None]
                * dirs[:, None, :]).reshape(-1, 2)
-        # the disc round the grasp point, less the wire itself (its centre line near the grasp point)
-        disc = _disc(CLEARANCE_MM * mm) + grasp
-        local = dense[np.abs(ds - GRASP_MM * mm) <= (CLEARANCE_MM + 3.0) * mm]
-        if len(local):
-            d2 = ((disc * disc).sum(axis=1)[:, None] + (local * local).sum(axis=1)[None, :]
-                  - 2.0 * disc @ local.T).min(axis=1)
-            disc = disc[d2 > (half + 0.6 * SIDE_FREE_MM * mm) ** 2]
-        pts = np.vstack((band, cap, disc))
-        inside = (pts[:, 0] >= 0) & (pts[:, 1] >= 0) & (pts[:, 0] <= self.h - 1) & (pts[:, 1] <= self.w - 1)
-        values = self.around(pts)
-        if self.rim is not None:  # a rim or the bench round the tray is neither board nor a thing there
-            inside &= ~self.off_tray(pts, RIM_EDGE_MM * mm)
-            values = np.where(inside, values, 0.0)
-        hit = (values >= board) & inside
+        disc = self.disc(grasp, dense, ds, half)
+        values = self._seen(np.vstack((band, cap, disc)))
+        hit = values >= board
         nb, nc = len(band), len(cap)
         # straight on past the tip, even a faint contrast that goes on is the wire going on into
         # light or a colour that hides it, not its end
@@ -960,6 +966,51 @@ class _EndReader:
             return "no room for the fingers at the grasp point"
         return ""
 
+    def clutter(self, full, tip, out, grasp, width, board) -> float:
+        """How near something comes to a free end: the most contrast, relative to the board's
+        threshold, in bands ROOM_BAND_MM out from the wire's edges along its span (each band's
+        ROOM_PERCENTILE), on arcs ROOM_CAP_MM beyond its tip (the most), and in the disc round
+        the grasp point (its ROOM_PERCENTILE). 1 or more: something as strong as the threshold
+        for a thing there comes that near (within the free test's bands only if it is too
+        small or too short to count there)."""
+        mm = self.wppm
+        half = width / 2
+        dense = _resample(full, 1.0)
+        ds = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))])
+        n = _normals(dense)[ds <= (SPAN_MM + SPAN_SLACK_MM) * mm]
+        line = dense[ds <= (SPAN_MM + SPAN_SLACK_MM) * mm]
+        worst = []
+        for d in ROOM_BAND_MM:
+            off = half + d * mm
+            band = np.vstack((line + off * n, line - off * n))
+            worst.append(np.percentile(self._seen(band), ROOM_PERCENTILE))
+        cap = (tip[None, None, :] + (half + np.array(ROOM_CAP_MM) * mm)[:, None, None] * _fan(out)[None, :, :])
+        worst.append(self._seen(cap.reshape(-1, 2)).max())
+        disc = self.disc(grasp, dense, ds, half)
+        if len(disc):
+            worst.append(np.percentile(self._seen(disc), ROOM_PERCENTILE))
+        return float(max(worst)) / board
+
+    def disc(self, grasp, dense, ds, half) -> np.ndarray:
+        """Points of the CLEARANCE_MM disc round the grasp point, less the wire itself (clear of
+        its centre line near the grasp point, dense at arc lengths ds)."""
+        mm = self.wppm
+        disc = _disc(CLEARANCE_MM * mm) + grasp
+        local = dense[np.abs(ds - GRASP_MM * mm) <= (CLEARANCE_MM + 3.0) * mm]
+        if len(local):
+            d2 = ((disc * disc).sum(axis=1)[:, None] + (local * local).sum(axis=1)[None, :]
+                  - 2.0 * disc @ local.T).min(axis=1)
+            disc = disc[d2 > (half + 0.6 * SIDE_FREE_MM * mm) ** 2]
+        return disc
+
+    def _seen(self, pts: np.ndarray) -> np.ndarray:
+        """around() at the points; nothing where they fall off the image or within RIM_EDGE_MM of a
+        rim or the bench round the tray (which is neither board nor a thing there)."""
+        inside = (pts[:, 0] >= 0) & (pts[:, 1] >= 0) & (pts[:, 0] <= self.h - 1) & (pts[:, 1] <= self.w - 1)
+        if self.rim is not None:
+            inside &= ~self.off_tray(pts, RIM_EDGE_MM * self.wppm)
+        return np.where(inside, self.around(pts), 0.0)
+
     def centred(self, grasp, tangent, width) -> np.ndarray:
         """The grasp point moved across the wire to the middle of its contrast."""
         n = np.array([-tangent[1], tangent[0]])
@@ -971,7 +1022,7 @@ class _EndReader:
         shift = float((wts * offs).sum() / wts.sum())
         return grasp + np.clip(shift, -0.5 * width, 0.5 * width) * n
 
-    def sighting(self, tip, inward, grasp, tangent, level, width) -> Sighting:
+    def sighting(self, tip, inward, grasp, tangent, score) -> Sighting:
         k = self.k
 
         def to_input(p):
@@ -979,7 +1030,6 @@ class _EndReader:
 
         end_angle = math.degrees(math.atan2(inward[0], inward[1]))
         grasp_angle = math.degrees(math.atan2(tangent[0], tangent[1])) % 180.0
-        score = level / (1.0 + level)
         return Sighting(to_input(tip), end_angle, to_input(grasp), grasp_angle, score)
 
 

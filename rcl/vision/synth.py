@@ -232,7 +232,10 @@ def _stripped_tips(w: Wire, cover, shade, dist, r, px_per_mm, origin):
 def resample(pts: np.ndarray, step: float) -> np.ndarray:
     seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
     cum = np.concatenate([[0.0], np.cumsum(seg)])
-    s = np.arange(0.0, cum[-1] + step, step)
+    # evenly at most step apart, from end to end: no point past the end (np.interp would repeat the
+    # end, and a repeated point has no tangent)
+    n = max(math.ceil(cum[-1] / step - 1e-6), 1)
+    s = np.linspace(0.0, cum[-1], n + 1)
     return np.stack([np.interp(s, cum, pts[:, 0]), np.interp(s, cum, pts[:, 1])], axis=1)
 
 
