@@ -13,6 +13,7 @@ import argparse
 import os
 import signal
 import sys
+from pathlib import Path
 from typing import Optional, Sequence
 
 from . import __version__
@@ -50,6 +51,9 @@ def _parser() -> argparse.ArgumentParser:
                             "--camera, --robot and --model replace its parts")
     setup.add_argument("--seed", type=_natural, default=0, metavar="N",
                        help="the simulated cell's tray of wires (default 0)")
+    setup.add_argument("--data", action="append", default=[], metavar="DIR",
+                       help="a folder the program may read and write files in (LOADWARP, SAVEWARP) besides "
+                            "its own and the cell file's; the first is where relative names start")
     run = sub.add_parser("run", parents=[setup], help="check and run an .rcl program")
     run.add_argument("file", metavar="FILE")
     run.add_argument("--report", metavar="FILE.json",
@@ -173,12 +177,15 @@ def _with_setup(args, body) -> int:
     """body(cell, new_session) with the cell the options ask for; its robot is finished after."""
     from .session import Session
 
+    for folder in args.data:
+        if not Path(folder).is_dir():
+            return _fail(f"rcl: error: --data: {folder} is not a folder", EXIT_STATIC)
     try:
         cell = _open_cell(args)
     except _SetupError as e:
         return _fail(str(e), EXIT_STATIC)
     try:
-        return body(cell, lambda: Session(step_budget=args.step_budget, cell=cell))
+        return body(cell, lambda: Session(step_budget=args.step_budget, cell=cell, data=args.data))
     finally:
         _finish(cell.robot, args)
 
@@ -303,8 +310,6 @@ def _vision(args) -> int:
 
 def _write_overlay(folder: str, path: str, image, result) -> str:
     """Write the overlay PNG for one image; an error message, or "" when written."""
-    from pathlib import Path
-
     from .vision.overlay import draw
 
     out = Path(folder)

@@ -19,6 +19,7 @@ from . import ast as A
 from . import types as T
 from .builtins import Builtin, Ref
 from .errors import BuiltinError, RclCancelled, RclRuntimeError, StackEntry
+from .files import Files
 from .frame import Frame, FrameError
 from .scope import GlobalScope, Routine, Variable
 from .values import default_factory
@@ -55,6 +56,7 @@ class Context:
         self.budget: Optional[int] = None
         self.cancel_reason: Optional[str] = None
         self.cancel_by_user = False
+        self.files = Files()  # the folders programs may touch (rcl.files); the session sets its own
 
     @property
     def out(self):

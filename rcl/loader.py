@@ -14,13 +14,14 @@ from typing import Iterable, Optional
 
 from . import ast as A
 from .errors import Diagnostic, RclStaticError, source_line
+from .files import FileRefused, Files, check_name, read_limited
 from .parser import parse
 from .resources import stdlib_dir
 
 
 def read_source(path: Path) -> str:
-    """A source file's text; OSError or UnicodeDecodeError say what went wrong."""
-    return path.read_bytes().decode("utf-8-sig")
+    """A source file's text; OSError, FileRefused or UnicodeDecodeError say what went wrong."""
+    return read_limited(path, path).decode("utf-8-sig")
 
 
 def describe_read_error(path, e: Exception) -> str:
@@ -28,15 +29,19 @@ def describe_read_error(path, e: Exception) -> str:
         return f"{path} is not UTF-8 text (byte 0x{e.object[e.start]:02x} at offset {e.start})"
     if isinstance(e, IsADirectoryError):
         return f"{path} is a folder, not a file"
+    if isinstance(e, FileRefused):
+        return str(e)
     if isinstance(e, OSError):
         return f"cannot read {path}: {e.strerror or e}"
     return f"cannot read {path}: {e}"
 
 
 def load(source: str, filename: str, key: str, base: Path, known: dict[str, A.Module],
-         search: Iterable[Path], made: Optional[dict[str, tuple[str, str]]] = None) -> list[A.Module]:
+         search: Iterable[Path], made: Optional[dict[str, tuple[str, str]]] = None,
+         files: Optional[Files] = None) -> list[A.Module]:
     """[main, new imported modules...]; raises RclStaticError with every load problem.
-    made: modules held in memory, by lower-case name: (the name diagnostics show, source)."""
+    made: modules held in memory, by lower-case name: (the name diagnostics show, source);
+    files: the folders a program may read (rcl.files), if it is confined."""
     main = parse(source, filename)
     main.key = key
     modules = [main]
@@ -47,7 +52,11 @@ def load(source: str, filename: str, key: str, base: Path, known: dict[str, A.Mo
         module, folder = queue.pop(0)
         for imp in module.imports:
             held = (made or {}).get(imp.name.lower())
-            path = _resolve(imp.name, folder, search) if held is None else Path(held[0])
+            try:
+                path = _resolve(imp.name, folder, search, files) if held is None else Path(held[0])
+            except FileRefused as e:
+                errors.append(_error(module, imp.span, f"IMPORT '{imp.name[:80]}': {e}"))
+                continue
             if path is None:
                 why = (" (this session has no work cell to give its frames: `rcl run` has one, and "
                        "Session(cell=open_cell()) in Python)" if imp.name.lower() == "cell" else
@@ -67,7 +76,7 @@ def load(source: str, filename: str, key: str, base: Path, known: dict[str, A.Mo
             else:
                 try:
                     text = read_source(path)
-                except (OSError, UnicodeDecodeError) as e:
+                except (OSError, FileRefused, UnicodeDecodeError) as e:
                     errors.append(_error(module, imp.span, describe_read_error(path, e)))
                     continue
                 shown = _display_name(path)
@@ -90,12 +99,22 @@ def _file_name(name: str) -> str:
     return name if name.lower().endswith(".rcl") else name + ".rcl"
 
 
-def _resolve(name: str, folder: Path, search: Iterable[Path]) -> Optional[Path]:
+def _resolve(name: str, folder: Path, search: Iterable[Path], files: Optional[Files]) -> Optional[Path]:
+    """The first name.rcl beside the importing file, in the search path, in the standard library;
+    FileRefused for a name that is no name, or for a file found outside what files allow."""
+    check_name(name)
     file = _file_name(name)
     for d in [folder, *search, stdlib_dir()]:
         candidate = Path(d) / file
-        if candidate.is_file():
-            return candidate.resolve()
+        try:
+            found = candidate.is_file()
+        except (OSError, ValueError):  # a name too long for the file system
+            found = False
+        if found:
+            real = candidate.resolve()
+            if files is not None and not files.allowed(real):
+                raise FileRefused(f"{real} is outside the folders a program may read: {files.where()}")
+            return real
     return None
 
 

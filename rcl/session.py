@@ -14,6 +14,7 @@ robot and raises RclRuntimeError.
 from __future__ import annotations
 
 import contextlib
+import os
 import sys
 import time
 from pathlib import Path
@@ -26,6 +27,7 @@ from .ast import Span
 from .builtins import Builtin, default_builtins
 from .checker import Checker
 from .errors import Diagnostic, RclCancelled, RclError, RclRuntimeError, RclStaticError
+from .files import Files
 from .frame import Frame, FrameError
 from .interpreter import Compiler, Context
 from .loader import describe_read_error, load, read_source
@@ -44,7 +46,8 @@ class Session:
     """One RCL interpreter with its own state, robot and camera."""
 
     def __init__(self, *, robot=None, camera=None, camera_model=None, wire_finder=None, out=None,
-                 step_budget: Optional[int] = None, search_path: Iterable[str | Path] = (), cell=None) -> None:
+                 step_budget: Optional[int] = None, search_path: Iterable[str | Path] = (), cell=None,
+                 data: Iterable[str | Path] = (), any_file: bool = False) -> None:
         """robot: a rcl.robots.Robot (default: a SimRobot of the smartarms model); camera: anything with
         grab() -> image array, such as rcl.camera.ImageFiles (default: none);
         camera_model: a rcl.camera.Calibration (default: a new, empty one);
@@ -53,7 +56,10 @@ class Session:
         out: where WRITE goes (default: sys.stdout); step_budget: stop a run after this many
         loop iterations and routine calls; search_path: extra folders for IMPORT;
         cell: a rcl.workcell.Cell (open_cell()): its robot and camera unless robot or camera are
-        given, a camera model on its tray's plane, its stations, and IMPORT 'cell'."""
+        given, a camera model on its tray's plane, its stations, and IMPORT 'cell';
+        data: folders programs may read and write files in besides their own (the first is
+        where a relative name in LOADWARP or SAVEWARP starts; the cell file's folder is added);
+        any_file: let programs name any path the user may (rcl.files says what is otherwise allowed)."""
         from .camera import Calibration
 
         self.cell = cell
@@ -66,6 +72,10 @@ class Session:
         self.camera_model = camera_model if camera_model is not None else Calibration(z=tray_z)
         self.step_budget = step_budget
         self.search_path = [Path(p) for p in search_path]
+        folders = [Path(p) for p in data]
+        if cell is not None and cell.config.from_file:
+            folders.append(cell.config.folder)
+        self.files = Files(folders, self.search_path, anywhere=any_file)
         # the camera's scale, for the vision systems' millimetre sizes
         self.px_per_mm = cell.config.px_per_mm() if cell is not None else 4.0
         self.on_look: Optional[Callable] = None  # f(image, vision result, ms) after every FINDWIRE/GREYWIRE/BINWIRE
@@ -74,6 +84,7 @@ class Session:
         sim = cell.sim if cell is not None and self.robot is cell.robot and self.camera is cell.camera else None
         self._made = {"cell": ("cell.rcl", cell.module_source())} if cell is not None else {}
         self._ctx = Context(self.robot, self.camera, self.camera_model, wire_finder, out, cell=sim)
+        self._ctx.files = self.files
         self._scope = GlobalScope(builtins=default_builtins())
         self._values: list = []
         self._ran: set[str] = set()
@@ -206,9 +217,11 @@ class Session:
             raise FileNotReadable(describe_read_error(path, e)) from None
 
     def _check(self, source, filename, key, base):
+        self.files.program = Path(os.path.realpath(base))  # the program's own folder, for its files
         with _deep_recursion():
             try:
-                modules = load(source, filename, key, base, self._scope.modules, self.search_path, self._made)
+                modules = load(source, filename, key, base, self._scope.modules, self.search_path, self._made,
+                               None if self.files.anywhere else self.files)
             except RclStaticError as e:
                 return None, e.diagnostics, None
             scope = self._scope.fork()

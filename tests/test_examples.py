@@ -17,16 +17,15 @@ EXAMPLES = sorted((ROOT / "examples").glob("*.rcl"))
 STDLIB = sorted((ROOT / "stdlib").glob("*.rcl"))
 
 
-def cell_session(seed=3, wires=(3, 3)):
+def cell_session(seed=3, wires=(3, 3), data=()):
     out = io.StringIO()
     cell = open_cell(seed=seed, wires=wires)
-    return Session(out=out, step_budget=10_000_000, cell=cell), out
+    return Session(out=out, step_budget=10_000_000, cell=cell, data=data), out
 
 
 @pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.name)
 def test_example_runs(path: Path, tmp_path, monkeypatch):
-    monkeypatch.chdir(tmp_path)  # examples may write files (calibrate.rcl: warp.json)
-    s, out = cell_session()
+    s, out = cell_session(data=[tmp_path])  # examples may write files (calibrate.rcl: warp.json)
     s.run_file(path)
     assert out.getvalue().endswith("\n")
     assert not s.robot.halted
@@ -44,8 +43,7 @@ def test_the_wire_tasks_empty_a_small_tray(name, done):
 
 
 def test_calibrate_example_fits_a_warp_that_absorbs_distortion_and_the_arms_inaccuracy(tmp_path, monkeypatch):
-    monkeypatch.chdir(tmp_path)
-    s, out = cell_session()
+    s, out = cell_session(data=[tmp_path])
     s.run_file(ROOT / "examples" / "calibrate.rcl")
     assert "warp fitted" in out.getvalue() and "not seen" not in out.getvalue()
     cal = Calibration()

@@ -9,6 +9,7 @@ import numpy as np
 
 from ..camera import CameraModelError, ImageError, find_mark
 from ..errors import BuiltinError
+from ..files import FileRefused
 from ..frame import Vector, vec
 from ..types import Var
 
@@ -50,14 +51,24 @@ def fitwarp(ctx) -> float:
     return float(_call("FITWARP", _model(ctx, "FITWARP").fit))
 
 
+def _file(ctx, name: str, path: str, writing: bool = False):
+    """The real path of a file the program names, if it may touch it (rcl.files)."""
+    try:
+        return ctx.files.resolve(path, writing)
+    except FileRefused as e:
+        raise BuiltinError(f"{name}: {e}") from None
+
+
 def loadwarp(ctx, path: str) -> None:
     """LOADWARP(path): load a camera-model file (a warp or a linear camera)."""
-    _call("LOADWARP", _model(ctx, "LOADWARP").load, path)
+    model = _model(ctx, "LOADWARP")
+    _call("LOADWARP", model.load, _file(ctx, "LOADWARP", path))
 
 
 def savewarp(ctx, path: str) -> None:
     """SAVEWARP(path): save the fitted camera model to a file."""
-    _call("SAVEWARP", _model(ctx, "SAVEWARP").save, path)
+    model = _model(ctx, "SAVEWARP")
+    _call("SAVEWARP", model.save, _file(ctx, "SAVEWARP", path, writing=True))
 
 
 def warp(ctx, u: float, v: float) -> Vector:

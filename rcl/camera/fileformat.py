@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import json
 import math
+import os
+import stat
 from pathlib import Path
 from typing import Optional, Union
 
@@ -22,6 +24,7 @@ from .models import Bicubic, BicubicWarp, CameraModelError, FitReport, LinearCam
 
 FORMAT = "rcl-camera-model"
 VERSION = 1
+MAX_BYTES = 1024 * 1024  # a camera-model file is a few kB; a larger one is not one (or a device)
 
 Model = Union[BicubicWarp, LinearCamera]
 
@@ -55,7 +58,14 @@ def save(path: Union[str, Path], model: Model, z: float, report: Optional[FitRep
 def load(path: Union[str, Path]) -> tuple[Model, float, Optional[FitReport]]:
     """(model, z plane, fit report) from a file; CameraModelError says what is wrong."""
     try:
-        text = Path(path).read_text(encoding="utf-8")
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))  # a pipe must not block the open
+        with open(fd, "rb") as f:
+            if not stat.S_ISREG(os.fstat(fd).st_mode):
+                raise CameraModelError(f"{path} is not a regular file")
+            data = f.read(MAX_BYTES + 1)
+        if len(data) > MAX_BYTES:
+            raise CameraModelError(f"{path} is larger than {MAX_BYTES // 1024} kB: not a camera-model file")
+        text = data.decode("utf-8")
     except (OSError, UnicodeDecodeError) as e:
         raise CameraModelError(f"cannot read {path}: {getattr(e, 'strerror', None) or e}") from None
     try:

@@ -28,6 +28,9 @@ class CellConfigError(ValueError):
     """A cell file that cannot be used; the message names the file and the key."""
 
 
+BUILT_IN = "the built-in cell"
+
+
 @dataclass
 class CellConfig:
     """A checked cell description. data: the merged TOML tables; folder: where relative paths start."""
@@ -42,6 +45,11 @@ class CellConfig:
     @property
     def name(self) -> str:
         return self.data["name"]
+
+    @property
+    def from_file(self) -> bool:
+        """Whether a user's cell file was read (its folder holds the files it names)."""
+        return self.source != BUILT_IN
 
     @property
     def warp(self) -> Optional[Path]:
@@ -82,7 +90,7 @@ def load_config(path: str | Path | None = None) -> CellConfig:
     """The built-in cell, or a user's file read over it; CellConfigError says what is wrong."""
     base = _read(DEFAULT)
     if path is None:
-        data, source, folder = base, "the built-in cell", Path.cwd()
+        data, source, folder = base, BUILT_IN, Path.cwd()
     else:
         p = Path(path)
         source = str(p)

@@ -1,0 +1,133 @@
+"""The files a program may touch (rcl.files): its own folder and the session's declared folders."""
+from __future__ import annotations
+
+import io
+import os
+import subprocess
+import sys
+
+import pytest
+
+from rcl import RclRuntimeError, RclStaticError, Session
+from rcl.files import MAX_NAME, FileRefused, Files
+
+FIT = "\n".join(f"CALPOINT({u}, {v}, {u / 4}, {v / 4})" for u in range(0, 500, 100) for v in range(0, 500, 100))
+
+
+@pytest.fixture
+def place(tmp_path):
+    """tmp/prog (the program's folder, with a fitted model saved as m.json), tmp/outside (a file
+    there), tmp/data; a symlink prog/out -> outside."""
+    prog, outside, data = tmp_path / "prog", tmp_path / "outside", tmp_path / "data"
+    for d in (prog, outside, data):
+        d.mkdir()
+    (outside / "secret.json").write_text("{}")
+    (outside / "x.rcl").write_text("WRITELN('outside')\n")
+    (prog / "out").symlink_to(outside)
+    s = Session(out=io.StringIO())
+    s.run(FIT + "\nr := FITWARP()\n")
+    s.camera_model.save(prog / "m.json")
+    return tmp_path
+
+
+def run_program(folder, text, **session):
+    """Run text as folder/p.rcl with a camera model fitted; the session."""
+    (folder / "p.rcl").write_text(FIT + "\nr := FITWARP()\n" + text + "\n")
+    s = Session(out=io.StringIO(), **session)
+    s.run_file(folder / "p.rcl")
+    return s
+
+
+@pytest.mark.parametrize("name", ["ABS/outside/w.json", "../outside/w.json", "out/w.json", "out/../../outside/w.json"])
+def test_savewarp_writes_nothing_outside_the_programs_folder(place, name):
+    name = name.replace("ABS", str(place))
+    with pytest.raises(RclRuntimeError, match="SAVEWARP: .* is outside the folders a program may write"):
+        run_program(place / "prog", f"SAVEWARP('{name}')")
+    assert sorted(p.name for p in (place / "outside").iterdir()) == ["secret.json", "x.rcl"]
+
+
+@pytest.mark.parametrize("name", ["ABS/outside/secret.json", "../outside/secret.json", "out/secret.json",
+                                  "/etc/passwd", "/dev/zero", "/dev/stdin", "missing/../../outside/secret.json"])
+def test_loadwarp_reads_nothing_outside_and_does_not_say_whether_it_exists(place, name):
+    name = name.replace("ABS", str(place))
+    with pytest.raises(RclRuntimeError) as e:
+        run_program(place / "prog", f"LOADWARP('{name}')")
+    assert "is outside the folders a program may read" in str(e.value)
+    assert "JSON" not in str(e.value) and "No such file" not in str(e.value)
+
+
+def test_inside_the_folder_and_the_data_folders_files_are_read_and_written(place):
+    prog, data = place / "prog", place / "data"
+    run_program(prog, "SAVEWARP('sub_w.json')\nLOADWARP('m.json')\nLOADWARP('./sub_w.json')")
+    assert (prog / "sub_w.json").is_file()
+    # a data folder: relative names start there; the program's own folder stays readable by full path
+    run_program(prog, f"SAVEWARP('w.json')\nLOADWARP('w.json')\nLOADWARP('{prog}/m.json')", data=[data])
+    assert (data / "w.json").is_file() and not (prog / "w.json").exists()
+    # widened by the embedding API
+    run_program(prog, f"SAVEWARP('{place}/outside/w.json')", any_file=True)
+    assert (place / "outside" / "w.json").is_file()
+
+
+def test_devices_pipes_folders_and_huge_files_are_not_read(place):
+    prog = place / "prog"
+    os.mkfifo(prog / "pipe.json")  # opening it to read would block for ever
+    (prog / "folder.json").mkdir()
+    with open(prog / "big.json", "wb") as f:
+        f.truncate(2 * 1024 * 1024)
+    for name, why in (("pipe.json", "not a regular file"), ("folder.json", "Is a directory"),
+                      ("big.json", "larger than 1024 kB"), ("/dev/zero", "not a regular file")):
+        with pytest.raises(RclRuntimeError, match=f"LOADWARP: .*{why}"):
+            run_program(prog, f"LOADWARP('{name}')", any_file=True)
+    with pytest.raises(RclRuntimeError, match="SAVEWARP: 'folder.json' is not a regular file"):
+        run_program(prog, "SAVEWARP('folder.json')")
+
+
+def test_names_that_are_no_names_are_refused(place):
+    files = Files()
+    for name, why in (("a\0b", "NUL"), ("x" * (MAX_NAME + 1), "characters"), ("", "empty")):
+        with pytest.raises(FileRefused, match=why):
+            files.resolve(name)
+    with pytest.raises(RclRuntimeError, match="LOADWARP: a file name of 2000 characters"):
+        run_program(place / "prog", f"LOADWARP('{'y' * 2000}')")
+    # a name too long for the file system is only not found
+    with pytest.raises(RclRuntimeError, match="LOADWARP: cannot read"):
+        run_program(place / "prog", f"LOADWARP('{'y' * 300}.json')")
+
+
+@pytest.mark.parametrize("name", ["../outside/x", "ABS/outside/x", "out/x"])
+def test_import_finds_nothing_outside_the_allowed_folders_and_nothing_runs(place, name):
+    name = name.replace("ABS", str(place))
+    out = io.StringIO()
+    (place / "prog" / "p.rcl").write_text(f"IMPORT '{name}'\nWRITELN('ran')\n")
+    with pytest.raises(RclStaticError, match=r"p\.rcl:1:1: error: IMPORT .* outside the folders a program may read"):
+        Session(out=out).run_file(place / "prog" / "p.rcl")
+    assert out.getvalue() == ""
+
+
+def test_import_of_a_long_name_and_from_a_declared_folder(place):
+    prog = place / "prog"
+    (prog / "p.rcl").write_text(f"IMPORT '{'z' * 300}'\n")
+    with pytest.raises(RclStaticError, match="cannot find module"):
+        Session(out=io.StringIO()).run_file(prog / "p.rcl")
+    (prog / "q.rcl").write_text("IMPORT 'x'\n")
+    out = io.StringIO()
+    Session(out=out, search_path=[place / "outside"]).run_file(prog / "q.rcl")
+    assert out.getvalue() == "outside\n"
+
+
+def test_the_cli_refuses_a_path_out_with_a_located_error_and_takes_data_folders(place):
+    prog = place / "prog"
+    (prog / "p.rcl").write_text(f"{FIT}\nr := FITWARP()\nSAVEWARP('{place}/outside/w.json')\n")
+    r = subprocess.run([sys.executable, "-m", "rcl", "run", str(prog / "p.rcl")], capture_output=True,
+                       text=True, timeout=120, cwd=place)  # the working folder is not the program's
+    assert r.returncode == 1 and "Traceback" not in r.stderr
+    assert f"p.rcl:{FIT.count(chr(10)) + 3}:1: error: SAVEWARP:" in r.stderr, r.stderr
+    assert not (place / "outside" / "w.json").exists()
+    (prog / "p.rcl").write_text(f"{FIT}\nr := FITWARP()\nSAVEWARP('w.json')\n")
+    r = subprocess.run([sys.executable, "-m", "rcl", "run", str(prog / "p.rcl"), "--data", str(place / "data")],
+                       capture_output=True, text=True, timeout=120, cwd=place)
+    assert r.returncode == 0, r.stderr
+    assert (place / "data" / "w.json").is_file()
+    r = subprocess.run([sys.executable, "-m", "rcl", "run", str(prog / "p.rcl"), "--data", str(place / "nope")],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2 and "--data:" in r.stderr and "not a folder" in r.stderr
