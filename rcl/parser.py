@@ -7,7 +7,7 @@ program is built without recursion. Syntax errors become Diagnostics.
 from __future__ import annotations
 
 import os
-from functools import lru_cache
+from functools import cache, lru_cache
 from pathlib import Path
 from typing import Iterator
 
@@ -26,6 +26,7 @@ def parse(source: str, filename: str = "<string>") -> A.Module:
         block = _parser().parse(source, start="start")
     except UnexpectedInput as e:
         raise RclStaticError([_syntax_diagnostic(e, source, filename)]) from None
+    _not_too_deep(block, source, filename)
     module = A.Module(filename, source, block)
     module.imports = [s for s in block.body if isinstance(s, A.Import)]
     return module
@@ -34,9 +35,47 @@ def parse(source: str, filename: str = "<string>") -> A.Module:
 def parse_expression(source: str, filename: str = "<expression>") -> A.Expr:
     """Parse one expression (the REPL's bare expressions); raise RclStaticError on a syntax error."""
     try:
-        return _parser().parse(source, start="expr")
+        expr = _parser().parse(source, start="expr")
     except UnexpectedInput as e:
         raise RclStaticError([_syntax_diagnostic(e, source, filename)]) from None
+    _not_too_deep(expr, source, filename)
+    return expr
+
+
+MAX_NESTING = 4000  # syntax-tree levels: blocks within blocks, operands within operands
+
+
+def _not_too_deep(root: A.Node, source: str, filename: str) -> None:
+    """RclStaticError at the first node deeper than MAX_NESTING: the checker, the compiler and the
+    running program each go down the tree by recursion, and Python's stack must hold it."""
+    pending = [(root, 1)]
+    while pending:
+        node, depth = pending.pop()
+        if depth > MAX_NESTING:
+            message = (f"the program nests too deeply: more than {MAX_NESTING} levels of blocks and "
+                       f"expressions within one another")
+            raise RclStaticError([Diagnostic(filename, node.span, message, source_line(source, node.span.line))])
+        pending.extend((child, depth + 1) for child in _children(node))
+
+
+def _children(node) -> Iterator[A.Node]:
+    for name in _node_fields(type(node)):
+        value = getattr(node, name)
+        if isinstance(value, A.Node):
+            yield value
+        elif isinstance(value, (list, tuple)):
+            for item in value:
+                if isinstance(item, A.Node):
+                    yield item
+                elif isinstance(item, (list, tuple)):  # ELSIF arms, CASE labels: pairs of nodes
+                    yield from (x for x in item if isinstance(x, A.Node))
+
+
+@cache
+def _node_fields(cls) -> tuple[str, ...]:
+    import dataclasses
+
+    return tuple(f.name for f in dataclasses.fields(cls) if f.name != "span")
 
 
 def needs_more_input(source: str) -> bool:

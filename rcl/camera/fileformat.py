@@ -14,6 +14,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import stat
 from pathlib import Path
 from typing import Optional, Union
@@ -25,6 +26,7 @@ from .models import Bicubic, BicubicWarp, CameraModelError, FitReport, LinearCam
 FORMAT = "rcl-camera-model"
 VERSION = 1
 MAX_BYTES = 1024 * 1024  # a camera-model file is a few kB; a larger one is not one (or a device)
+MAX_NESTING = 8  # a camera-model file nests 3 deep
 
 Model = Union[BicubicWarp, LinearCamera]
 
@@ -68,6 +70,9 @@ def load(path: Union[str, Path]) -> tuple[Model, float, Optional[FitReport]]:
         text = data.decode("utf-8")
     except (OSError, UnicodeDecodeError) as e:
         raise CameraModelError(f"cannot read {path}: {getattr(e, 'strerror', None) or e}") from None
+    depth = _nesting(text)
+    if depth > MAX_NESTING:
+        raise CameraModelError(f"{path}: arrays and objects nested {depth} deep: not a camera-model file")
     try:
         doc = json.loads(text)
     except json.JSONDecodeError as e:
@@ -76,6 +81,15 @@ def load(path: Union[str, Path]) -> tuple[Model, float, Optional[FitReport]]:
         return from_json(doc)
     except CameraModelError as e:
         raise CameraModelError(f"{path}: {e}") from None
+
+
+def _nesting(text: str) -> int:
+    """How deep JSON text nests arrays and objects (brackets inside strings do not count): the
+    parser recurses as deep, and a hostile file must not take the stack with it."""
+    bare = re.sub(r'"(?:[^"\\]|\\.)*"', '""', text).encode("utf-8")
+    b = np.frombuffer(bare, np.uint8)
+    step = np.isin(b, (ord("["), ord("{"))).astype(np.int32) - np.isin(b, (ord("]"), ord("}")))
+    return int(np.cumsum(step).max(initial=0))
 
 
 def from_json(doc) -> tuple[Model, float, Optional[FitReport]]:

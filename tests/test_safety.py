@@ -1,4 +1,4 @@
-"""The files a program may touch (rcl.files): its own folder and the session's declared folders."""
+"""Safety: the files a program may touch (rcl.files), and the limits that keep hostile programs and files from crashing rcl."""
 from __future__ import annotations
 
 import io
@@ -131,3 +131,47 @@ def test_the_cli_refuses_a_path_out_with_a_located_error_and_takes_data_folders(
     r = subprocess.run([sys.executable, "-m", "rcl", "run", str(prog / "p.rcl"), "--data", str(place / "nope")],
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 2 and "--data:" in r.stderr and "not a folder" in r.stderr
+
+
+# Deep programs and files: one limit, at check time; never a crash --------------------------------
+
+def nested(opener: str, closer: str, n: int, inner: str = "WRITELN(1)") -> str:
+    return opener * n + inner + "\n" + closer * n
+
+
+@pytest.mark.parametrize("text", [
+    nested("IF TRUE THEN\n", "END\n", 10_000),
+    nested("WHILE FALSE DO\n", "END\n", 50_000),
+    nested("REPEAT\n", "UNTIL TRUE\n", 50_000),
+    nested("FOR i := 1 TO 1 DO\n", "END\n", 50_000),
+    nested("TRY\n", "EXCEPT\nEND\n", 50_000),
+    "x := " + "-" * 50_000 + "1\n",
+    "x := 1" + " + 1" * 100_000 + "\n",
+])
+def test_a_program_nested_too_deep_is_refused_before_it_runs(text):
+    from rcl.parser import MAX_NESTING
+
+    s = Session(out=io.StringIO())
+    diagnostics = s.check(text, "deep.rcl")
+    assert len(diagnostics) == 1 and f"nests too deeply: more than {MAX_NESTING} levels" in diagnostics[0].message
+    with pytest.raises(RclStaticError):
+        s.run(text, "deep.rcl")
+
+
+def test_nesting_just_within_the_limit_runs_and_the_cli_never_crashes(tmp_path):
+    out = io.StringIO()
+    Session(out=out).run(nested("IF TRUE THEN\n", "END\n", 1_900) + "x := " + "-" * 3_001 + "1\nWRITELN(x)\n")
+    assert out.getvalue() == "1\n-1\n"
+    (tmp_path / "deep.rcl").write_text(nested("IF TRUE THEN\n", "END\n", 10_000))
+    r = subprocess.run([sys.executable, "-m", "rcl", "run", str(tmp_path / "deep.rcl")], capture_output=True,
+                       text=True, timeout=120)
+    assert r.returncode == 2 and "deep.rcl:2001:1: error: the program nests too deeply" in r.stderr
+
+
+def test_a_camera_model_file_nested_deep_is_refused_not_a_crash(tmp_path):
+    (tmp_path / "deep.json").write_text('{"format": "rcl-camera-model", "fit": ' + "[" * 70_000 + "]" * 70_000 + "}")
+    with pytest.raises(RclRuntimeError, match="nested 70001 deep: not a camera-model file"):
+        Session(out=io.StringIO(), data=[tmp_path]).run("LOADWARP('deep.json')", "x.rcl")
+    r = subprocess.run([sys.executable, "-m", "rcl", "calib", "apply", str(tmp_path / "deep.json"),
+                        str(tmp_path / "q.csv")], capture_output=True, text=True, timeout=120)
+    assert r.returncode != 0 and "nested 70001 deep" in r.stderr and "Traceback" not in r.stderr
