@@ -26,6 +26,7 @@ from .values import default_factory
 
 RETURN = "return"  # what a statement closure gives when a RETURN ran
 MAX_CALL_DEPTH = 1000
+MAX_STRING = 16 * 1024 * 1024  # characters in one STRING
 INT_MIN, INT_MAX = -(2**63), 2**63 - 1
 USER_FACING = (BuiltinError, FrameError, ArithmeticError)
 
@@ -587,6 +588,8 @@ class Compiler:
             return self._division(op, a, b, e)
         if e.type == T.INTEGER:
             return self._integer_arithmetic(op, a, b, e.op_span)
+        if e.type == T.STRING:
+            return self._concatenation(a, b, e.op_span)
         if op == "+":
             return lambda fr: a(fr) + b(fr)
         if op == "-":
@@ -617,6 +620,18 @@ class Compiler:
                 if INT_MIN <= x <= INT_MAX:
                     return x
                 raise overflow()
+        return run
+
+    def _concatenation(self, a: Callable, b: Callable, span: A.Span) -> Callable:
+        """STRING + STRING, at most MAX_STRING characters (a doubling loop ends in an error, not in
+        all the memory there is)."""
+        make = self._raiser()
+
+        def run(fr):
+            x, y = a(fr), b(fr)
+            if len(x) + len(y) > MAX_STRING:
+                raise make(f"string too long: {len(x) + len(y):,} characters (at most {MAX_STRING:,})", span)
+            return x + y
         return run
 
     def _division(self, op: str, a: Callable, b: Callable, e: A.BinOp) -> Callable:

@@ -175,3 +175,26 @@ def test_a_camera_model_file_nested_deep_is_refused_not_a_crash(tmp_path):
     r = subprocess.run([sys.executable, "-m", "rcl", "calib", "apply", str(tmp_path / "deep.json"),
                         str(tmp_path / "q.csv")], capture_output=True, text=True, timeout=120)
     assert r.returncode != 0 and "nested 70001 deep" in r.stderr and "Traceback" not in r.stderr
+
+
+# Numbers and strings out of range: RCL errors that TRY catches, never "internal error" -----------
+
+@pytest.mark.parametrize("text, message", [
+    ("x := COS(1e308 * 10)", "COS of inf degrees: the angle must be a finite number"),
+    ("x := SIN(1e308 * 10)", "SIN of inf degrees"),
+    ("x := TAN(1e308 * 10 - 1e308 * 10)", "TAN of nan degrees"),
+    ("x := 1e308 * 10 - 1e308 * 10\ni := ROUND(x)", "ROUND of nan is not a 64-bit INTEGER"),
+    ("F^ := TRANS(1e308, 0, 0) * TRANS(1e308, 0, 0)\nG^ := INV(F^)\nMOVE(G^)",
+     "MOVE: the frame holds a number that is not finite"),
+    ("F^ := TRANS(1e308, 0, 0) * TRANS(1e308, 0, 0)\nMOVES(F^)", "MOVES: the frame holds a number that is not"),
+    ("s := 'ab'\nWHILE TRUE DO s := s + s END", "string too long: 33,554,432 characters"),
+])
+def test_numbers_and_strings_out_of_range_are_rcl_errors_try_catches(text, message):
+    s = Session(out=io.StringIO())
+    with pytest.raises(RclRuntimeError, match=message) as e:
+        s.run(text, "t.rcl")
+    assert e.value.render().startswith("t.rcl:") and s.robot.trajectory == []  # the arm never moved
+    out = io.StringIO()
+    body = text.replace("\n", "\n  ")
+    Session(out=out).run(f"TRY\n  {body}\nEXCEPT\n  WRITELN('caught: ', ERRMSG())\nEND\n", "t.rcl")
+    assert out.getvalue().startswith("caught: ") and message.split(":")[0] in out.getvalue()

@@ -123,19 +123,27 @@ def sqrt(x: float) -> float:
     return math.sqrt(x)
 
 
+def _angle(name: str, a: float) -> float:
+    """a degrees in radians; BuiltinError for an angle that is no number or infinite."""
+    if not math.isfinite(a):
+        raise BuiltinError(f"{name} of {format_value(float(a))} degrees: the angle must be a finite number")
+    return math.radians(a)
+
+
 def sin(a: float) -> float:
     """SIN(a): the sine of a degrees."""
-    return math.sin(math.radians(a))
+    return math.sin(_angle("SIN", a))
 
 
 def cos(a: float) -> float:
     """COS(a): the cosine of a degrees."""
-    return math.cos(math.radians(a))
+    return math.cos(_angle("COS", a))
 
 
 def tan(a: float) -> float:
     """TAN(a): the tangent of a degrees."""
-    if math.isfinite(a) and (a - 90.0) % 180.0 == 0.0:
+    _angle("TAN", a)
+    if (a - 90.0) % 180.0 == 0.0:
         raise BuiltinError(f"TAN is infinite at {format_value(float(a))} degrees")
     return math.tan(math.radians(a))
 
@@ -170,6 +178,8 @@ def _to_integer(name: str, x: float) -> int:
 
 def round_(x: float) -> int:
     """ROUND(x): the nearest INTEGER, halves away from zero."""
+    if not math.isfinite(x):
+        return _to_integer("ROUND", x)
     return _to_integer("ROUND", math.copysign(math.floor(abs(x) + 0.5), x))
 
 

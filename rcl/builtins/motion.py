@@ -26,14 +26,24 @@ def _do(action, *args):
         raise BuiltinError(str(e)) from None
 
 
+def _target(name: str, t5: Frame):
+    """The frame's matrix; BuiltinError if a product overflowed into inf or NaN on the way."""
+    m = t5.matrix
+    if not math.isfinite(float(m.sum())):
+        p = ", ".join(f"{x:g}" for x in m[:3, 3])
+        raise BuiltinError(f"{name}: the frame holds a number that is not finite (position ({p})): "
+                           f"a product of frames overflowed")
+    return m
+
+
 def move(ctx, t5: BaseToT5) -> None:
     """MOVE(T5^): joint-interpolated move of the manipulator end to T5^ (robot base coordinates)."""
-    _do(_robot(ctx).move, t5.matrix)
+    _do(_robot(ctx).move, _target("MOVE", t5))
 
 
 def moves(ctx, t5: BaseToT5) -> None:
     """MOVES(T5^): straight-line move of the manipulator end to T5^."""
-    _do(_robot(ctx).moves, t5.matrix)
+    _do(_robot(ctx).moves, _target("MOVES", t5))
 
 
 def speed(ctx, percent: float) -> None:
