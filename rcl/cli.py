@@ -27,7 +27,11 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     args = parser.parse_args(argv)
     if args.command is None:
         args = parser.parse_args(["repl", *(argv if argv is not None else sys.argv[1:])])
-    return args.handler(args)
+    try:
+        return args.handler(args)
+    except KeyboardInterrupt:  # Ctrl-C outside a running program (reading, checking, vision): nothing moved
+        _flush()
+        return _fail("rcl: interrupted (Ctrl-C)", EXIT_INTERRUPTED)
 
 
 def _parser() -> argparse.ArgumentParser:

@@ -198,3 +198,49 @@ def test_numbers_and_strings_out_of_range_are_rcl_errors_try_catches(text, messa
     body = text.replace("\n", "\n  ")
     Session(out=out).run(f"TRY\n  {body}\nEXCEPT\n  WRITELN('caught: ', ERRMSG())\nEND\n", "t.rcl")
     assert out.getvalue().startswith("caught: ") and message.split(":")[0] in out.getvalue()
+
+
+def test_ctrl_c_while_checking_or_seeing_ends_with_130_and_a_message(tmp_path):
+    import signal
+    import time
+
+    (tmp_path / "big.rcl").write_text("x := 1\n" * 60_000)  # seconds of checking
+    for args in (["check", str(tmp_path / "big.rcl")], ["run", str(tmp_path / "big.rcl")]):
+        proc = subprocess.Popen([sys.executable, "-m", "rcl", *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                text=True)
+        time.sleep(1.5)
+        proc.send_signal(signal.SIGINT)
+        out, err = proc.communicate(timeout=60)
+        assert proc.returncode == 130 and "interrupted" in err and "Traceback" not in err, (args, err[-500:])
+
+
+@pytest.mark.parametrize("fit, message", [
+    ('"abc"', '"fit" must be an object, not str'),
+    ('[1, "x"]', '"fit" must be an object, not list'),
+    ('{"a": 1}', '"rms_mm" must be a finite number'),
+    ('{"points": "many", "rms_mm": 1, "max_mm": 1}', '"points" must be a whole number'),
+    ('{"rms_mm": 1' + '0' * 4000 + ', "max_mm": 1}', '"rms_mm" must be a finite number'),
+    ('{"rms_mm": 1' + '0' * 5000 + ', "max_mm": 1}', "not a camera-model file"),
+    ('{"rms_mm": 1, "max_mm": 1, "residuals_mm": [[1, "x"]]}', '"residuals_mm" must be a list'),
+])
+def test_a_camera_model_with_a_bad_fit_is_a_clear_error(place, fit, message):
+    import json
+
+    doc = json.loads((place / "prog" / "m.json").read_text())
+    doc.pop("fit")
+    text = json.dumps(doc)[:-1] + ', "fit": ' + fit + "}"
+    (place / "bad.json").write_text(text)
+    (place / "q.csv").write_text("u,v\n10,20\n")
+    r = subprocess.run([sys.executable, "-m", "rcl", "calib", "apply", str(place / "bad.json"), str(place / "q.csv")],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2 and message in r.stderr and "Traceback" not in r.stderr, r.stderr[-300:]
+
+
+def test_rcl_vision_refuses_a_scale_no_camera_has(tmp_path):
+    from PIL import Image
+
+    Image.new("L", (64, 64), 128).save(tmp_path / "grey.png")
+    for scale in ("inf", "1e-9", "1e6", "nan", "0"):
+        r = subprocess.run([sys.executable, "-m", "rcl", "vision", str(tmp_path / "grey.png"), "--px-per-mm", scale],
+                           capture_output=True, text=True, timeout=60)
+        assert r.returncode == 2 and "the scale must be 0.5 to 100 px per mm" in r.stderr, r.stderr[-300:]

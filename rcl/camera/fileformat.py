@@ -77,6 +77,8 @@ def load(path: Union[str, Path]) -> tuple[Model, float, Optional[FitReport]]:
         doc = json.loads(text)
     except json.JSONDecodeError as e:
         raise CameraModelError(f"{path}:{e.lineno}:{e.colno}: not JSON: {e.msg}") from None
+    except ValueError as e:  # a number of thousands of digits
+        raise CameraModelError(f"{path}: not a camera-model file: {e}") from None
     try:
         return from_json(doc)
     except CameraModelError as e:
@@ -123,12 +125,31 @@ def from_json(doc) -> tuple[Model, float, Optional[FitReport]]:
         raise CameraModelError(f"\"model\" must be \"warp\" or \"linear\", not {kind!r}")
     report = None
     fit = doc.get("fit")
-    if isinstance(fit, dict):
-        residuals = np.asarray(fit.get("residuals_mm", []), dtype=float).reshape(-1, 2)
+    if fit is not None:
+        if not isinstance(fit, dict):
+            raise CameraModelError(f"\"fit\" must be an object, not {type(fit).__name__}")
+        rows = fit.get("residuals_mm", [])
+        if not isinstance(rows, list) or not all(
+                isinstance(r, list) and len(r) == 2 and all(_finite(x) for x in r) for r in rows):
+            raise CameraModelError("\"residuals_mm\" must be a list of [dx, dy] pairs of finite numbers")
+        residuals = np.array(rows, dtype=float).reshape(-1, 2)
+        points = fit.get("points", len(residuals))
+        if isinstance(points, bool) or not isinstance(points, int) or not 0 <= points <= 1_000_000:
+            raise CameraModelError(f"\"points\" must be a whole number of points, not {str(points)[:40]}")
         loo = fit.get("loo_rms_mm")
-        report = FitReport(int(fit.get("points", len(residuals))), _number(fit, "rms_mm"),
-                           _number(fit, "max_mm"), None if loo is None else float(loo), residuals)
+        report = FitReport(points, _number(fit, "rms_mm"), _number(fit, "max_mm"),
+                           None if loo is None else _number(fit, "loo_rms_mm"), residuals)
     return model, z, report
+
+
+def _finite(value) -> bool:
+    """Whether a JSON value is a finite number (not a bool, not an integer too large for a float)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return False
+    try:
+        return math.isfinite(value)
+    except OverflowError:
+        return False
 
 
 def _section(doc: dict, key: str) -> dict:
@@ -140,8 +161,8 @@ def _section(doc: dict, key: str) -> dict:
 
 def _number(doc: dict, key: str) -> float:
     value = doc.get(key)
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise CameraModelError(f"\"{key}\" must be a finite number, not {value!r}")
+    if not _finite(value):
+        raise CameraModelError(f"\"{key}\" must be a finite number, not {str(value)[:40]}")
     return float(value)
 
 

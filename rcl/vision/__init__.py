@@ -33,10 +33,13 @@ def load(method: str):
     raise VisionError(f"unknown method {method!r} (one of {', '.join(METHODS)})")
 
 
+MIN_PX_PER_MM, MAX_PX_PER_MM = 0.5, 100.0  # a 1 mm wire a pixel wide at least; a 10 mm field at most at 1000 px
+
+
 def find_wires(image, method: str = DEFAULT_METHOD, px_per_mm: float = 4.0):
     """Candidates best-first (with .candidates and .timings in ms) for one image."""
-    if not px_per_mm > 0:
-        raise VisionError(f"the scale must be a positive number of px per mm, not {px_per_mm}")
+    if not MIN_PX_PER_MM <= px_per_mm <= MAX_PX_PER_MM:
+        raise VisionError(f"the scale must be {MIN_PX_PER_MM:g} to {MAX_PX_PER_MM:g} px per mm, not {px_per_mm}")
     return load(method)(image, px_per_mm)
 
 
