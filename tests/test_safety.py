@@ -244,3 +244,43 @@ def test_rcl_vision_refuses_a_scale_no_camera_has(tmp_path):
         r = subprocess.run([sys.executable, "-m", "rcl", "vision", str(tmp_path / "grey.png"), "--px-per-mm", scale],
                            capture_output=True, text=True, timeout=60)
         assert r.returncode == 2 and "the scale must be 0.5 to 100 px per mm" in r.stderr, r.stderr[-300:]
+
+
+@pytest.mark.parametrize("change, message", [
+    (("us_per_degree = [10.0, 10.0, 10.0, 10.0, 10.0]", "us_per_degree = [0.0, 10.0, 10.0, 10.0, 10.0]"),
+     "us_per_degree must not be 0"),
+    (("channels = [0, 1, 2, 3, 4]", 'channels = ["a", 1, 2, 3, 4]'), "channels must be a list of whole numbers"),
+    (("channels = [0, 1, 2, 3, 4]", "channels = [0, 0, 2, 3, 4]"), "distinct channels"),
+    (("direction = [1, -1, 1, 1, 1]", "direction = [0, -1, 1, 1, 1]"), "direction must hold 1 or -1"),
+    (("baud = 115200", 'baud = "fast"'), "baud must be a whole number"),
+    (("linear_speed = 100.0", "linear_speed = 0.0"), "linear_speed must be above zero"),
+    (("linear_speed = 100.0", "linear_speed = nan"), "linear_speed must be a finite number"),
+])
+def test_an_arm_model_with_a_bad_number_is_refused_when_loaded(tmp_path, change, message):
+    from rcl.robots import RobotError
+    from rcl.robots.kinematics import MODELS_DIR, load_model
+
+    text = (MODELS_DIR / "al5d.toml").read_text()
+    old, new = change
+    assert old in text, old
+    (tmp_path / "arm.toml").write_text(text.replace(old, new))
+    with pytest.raises(RobotError, match=message):
+        load_model(tmp_path / "arm.toml")
+    r = subprocess.run([sys.executable, "-m", "rcl", "run", "nothing.rcl", "--model", str(tmp_path / "arm.toml")],
+                       capture_output=True, text=True, timeout=60, cwd=tmp_path)
+    assert r.returncode == 2 and message in r.stderr and "Traceback" not in r.stderr, r.stderr[-300:]
+
+
+def test_the_pulse_sent_to_a_servo_says_the_angle_asked_for():
+    import dataclasses
+
+    from rcl.robots import RobotError
+    from rcl.robots.kinematics import load_model
+    from rcl.robots.ssc32 import SSC32
+
+    model = load_model("al5d")
+    driver = SSC32(None, model)
+    assert driver.pulse(0, 30.0) == 1800 and driver.pulse(1, 30.0) == 1200  # 10 us a degree; joint 1 reversed
+    tiny = dataclasses.replace(model, ssc32={**model.ssc32, "us_per_degree": [0.001] * 5})
+    with pytest.raises(RobotError, match="the pulse 1500 us means 0.0 degrees, not the 30.0 asked for"):
+        SSC32(None, tiny).pulse(0, 30.0)

@@ -114,15 +114,65 @@ def _model_from(doc: dict, source: str) -> ArmModel:
     home = [float(x) for x in doc.get("home", [0.0] * len(joints))]
     if len(home) != len(joints):
         raise ValueError(f"home has {len(home)} angles for {len(joints)} joints")
+    table_z = _real(doc.get("table_z", 0.0), "table_z")
+    linear_speed = _real(doc.get("linear_speed", 250.0), "linear_speed", positive=True)
+    seconds = _real(doc.get("gripper", {}).get("seconds", 0.5), "gripper.seconds")
+    if seconds < 0:
+        raise ValueError(f"gripper.seconds must be 0 or more, not {seconds:g}")
+    ssc32 = dict(doc.get("ssc32", {}))
+    if ssc32:
+        _check_ssc32(ssc32, len(joints))
     model = ArmModel(str(doc.get("name", Path(source).stem)), joints, home, doc.get("solver"),
-                     float(doc.get("table_z", 0.0)), float(doc.get("linear_speed", 250.0)),
-                     float(doc.get("gripper", {}).get("seconds", 0.5)), dict(doc.get("ssc32", {})), source)
+                     table_z, linear_speed, seconds, ssc32, source)
     if model.solver not in (None, "5dof", "puma", "numerical"):
         raise ValueError(f"unknown solver {model.solver!r} (5dof, puma or numerical)")
     if model.solver in ("5dof", "puma"):
         _check_structure(model)
     model.check_limits(home)
     return model
+
+
+def _real(value, key: str, positive: bool = False) -> float:
+    """A model's number: finite (and above zero if positive); ValueError says which key."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(float(value)):
+        raise ValueError(f"{key} must be a finite number, not {str(value)[:40]}")
+    if positive and not value > 0:
+        raise ValueError(f"{key} must be above zero, not {value:g}")
+    return float(value)
+
+
+def _check_ssc32(cfg: dict, axes: int) -> None:
+    """The [ssc32] section: a channel (0-31, each once), a pulse width per degree (finite, not
+    zero) and a direction (1 or -1) per joint; the gripper's channel and pulse widths; the baud."""
+    def ints(key, default=None):
+        v = cfg.get(key, default)
+        if not isinstance(v, list) or not all(isinstance(x, int) and not isinstance(x, bool) for x in v):
+            raise ValueError(f"ssc32.{key} must be a list of whole numbers")
+        return v
+    channels = ints("channels")
+    direction = ints("direction", [1] * len(channels))
+    us = cfg.get("us_per_degree")
+    if not isinstance(us, list):
+        raise ValueError("ssc32.us_per_degree must be a list of numbers")
+    for x in us:
+        if _real(x, "each ssc32.us_per_degree") == 0:
+            raise ValueError("ssc32.us_per_degree must not be 0: the joint would never move")
+    if not len(channels) == len(us) == len(direction) == axes:
+        raise ValueError(f"ssc32 must give one channel, us_per_degree and direction per joint ({axes})")
+    if not all(0 <= c <= 31 for c in channels) or len(set(channels)) != len(channels):
+        raise ValueError("ssc32.channels must be distinct channels 0 to 31")
+    if not all(d in (1, -1) for d in direction):
+        raise ValueError("ssc32.direction must hold 1 or -1 per joint")
+    grip = cfg.get("gripper_channel", -1)
+    if isinstance(grip, bool) or not isinstance(grip, int) or not -1 <= grip <= 31 or grip in channels:
+        raise ValueError("ssc32.gripper_channel must be a channel 0 to 31 no joint uses (or -1: none)")
+    for key in ("gripper_open_us", "gripper_closed_us"):
+        v = cfg.get(key, 1500)
+        if isinstance(v, bool) or not isinstance(v, int) or not 500 <= v <= 2500:
+            raise ValueError(f"ssc32.{key} must be a pulse width of 500 to 2500 us, not {str(v)[:40]}")
+    baud = cfg.get("baud", 115200)
+    if isinstance(baud, bool) or not isinstance(baud, int) or not 300 <= baud <= 4_000_000:
+        raise ValueError(f"ssc32.baud must be a whole number of baud, not {str(baud)[:40]}")
 
 
 def _check_structure(m: ArmModel) -> None:
