@@ -284,3 +284,23 @@ def test_the_pulse_sent_to_a_servo_says_the_angle_asked_for():
     tiny = dataclasses.replace(model, ssc32={**model.ssc32, "us_per_degree": [0.001] * 5})
     with pytest.raises(RobotError, match="the pulse 1500 us means 0.0 degrees, not the 30.0 asked for"):
         SSC32(None, tiny).pulse(0, 30.0)
+
+
+@pytest.mark.parametrize("text, message", [
+    ("[camera]\nnoise = -5\n", "camera.noise must be 0 to 1, not -5"),
+    ("[robot]\nseed = -1\n", "robot.seed must be 0 to"),
+    ("[tray]\nlayers = 99999999999999999999\n", "tray.layers must be 1 to 10"),
+    ("[tray]\nwires = " + "[" * 5000 + "]" * 5000 + "\n", "nested too deep for a cell file"),
+    ("[camera]\npx_per_mm = 1e300\n", "camera.px_per_mm must be 0 (from the width and fov) or 0.5 to 100"),
+    ("[bath]\nseconds = -1\n", "bath.seconds must be 0 to 3600"),
+])
+def test_a_cell_file_with_a_number_out_of_range_is_refused_when_loaded(tmp_path, text, message):
+    from rcl.cell import CellConfigError, load_config
+
+    (tmp_path / "cell.toml").write_text(text)
+    with pytest.raises(CellConfigError, match=message.replace("(", r"\(").replace(")", r"\)")):
+        load_config(tmp_path / "cell.toml")
+    (tmp_path / "one.rcl").write_text("WRITELN(1)\n")
+    r = subprocess.run([sys.executable, "-m", "rcl", "run", str(tmp_path / "one.rcl"), "--cell",
+                        str(tmp_path / "cell.toml")], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2 and message in r.stderr and "Traceback" not in r.stderr and r.stdout == ""

@@ -29,6 +29,16 @@ class CellConfigError(ValueError):
 
 
 BUILT_IN = "the built-in cell"
+# the numbers a cell file may hold: what a work cell could have, and what the simulator can draw
+RANGES = {
+    "robot.baud": (300, 4_000_000), "robot.inaccuracy_mm": (0, 50), "robot.repeatability_mm": (0, 10),
+    "robot.seed": (0, 2**32 - 1), "camera.height_mm": (50, 10_000), "camera.fov_mm": (10, 5_000),
+    "camera.k1": (-10, 10), "camera.k2": (-10, 10), "camera.noise": (0, 1), "tray.size_mm": (10, 2_000),
+    "tray.layers": (1, 10), "tray.z": (-2_000, 2_000), "gripper.tolerance_mm": (0, 100),
+    "gripper.angle_deg": (0, 90), "gripper.room_mm": (0, 100), "gripper.height_mm": (0, 100),
+    "press.tolerance_mm": (0, 100), "press.angle_deg": (0, 90), "bath.radius_mm": (1, 1_000),
+    "bath.angle_deg": (0, 90), "bath.seconds": (0, 3_600),
+}
 
 
 @dataclass
@@ -114,6 +124,8 @@ def _read(path: Path) -> dict:
         raise CellConfigError(f"cannot read {path}: {e.strerror or e}") from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as e:
         raise CellConfigError(f"{path}: not a valid TOML file: {e}") from None
+    except RecursionError:
+        raise CellConfigError(f"{path}: arrays or tables nested too deep for a cell file") from None
 
 
 def _merge(into: dict, user: dict, base: dict, source: str, where: str) -> None:
@@ -182,16 +194,15 @@ def _check(data: dict, source: str) -> None:
     if camera["kind"] == "sim" and robot["kind"] != "sim":
         fail("the simulated camera sees the simulated tray, which only the simulated arm can reach: "
              "with robot.kind = \"ssc32\" use camera.kind = \"files\"")
-    positive = [("camera.width", camera["width"]), ("camera.height_mm", camera["height_mm"]),
-                ("camera.fov_mm", camera["fov_mm"]), ("tray.size_mm", tray["size_mm"]),
-                ("tray.layers", tray["layers"])]
-    for name, v in positive:
-        if v <= 0:
-            fail(f"{name} must be more than 0, not {v}")
+    for name, (low, high) in RANGES.items():
+        section, key = name.split(".")
+        v = data[section][key]
+        if not low <= v <= high:
+            fail(f"{name} must be {low} to {high}, not {v}")
     if camera["width"] < 64 or camera["width"] > 4096:
         fail(f"camera.width must be 64 to 4096 px, not {camera['width']}")
-    if camera["px_per_mm"] < 0:
-        fail("camera.px_per_mm must be 0 (from the width and fov) or more")
+    if camera["px_per_mm"] != 0 and not 0.5 <= camera["px_per_mm"] <= 100:
+        fail("camera.px_per_mm must be 0 (from the width and fov) or 0.5 to 100")
     if not 0 <= camera["tilt_deg"] < 45:
         fail(f"camera.tilt_deg must be 0 to 45, not {camera['tilt_deg']}")
     if tray["look"] not in LOOKS:

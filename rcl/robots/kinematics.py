@@ -93,6 +93,8 @@ def load_model(name_or_path: str | Path) -> ArmModel:
         raise RobotError(f"cannot read {path}: {e}") from None
     except tomllib.TOMLDecodeError as e:
         raise RobotError(f"{path}: not valid TOML: {e}") from None
+    except RecursionError:
+        raise RobotError(f"{path}: arrays or tables nested too deep for an arm model") from None
     try:
         return _model_from(doc, str(path))
     except (KeyError, TypeError, ValueError) as e:
