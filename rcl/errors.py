@@ -35,9 +35,20 @@ class Diagnostic:
         return f"{head}\n{line}\n{pad}^{'~' * (width - 1)}"
 
 
+def source_lines(source: str) -> list[str]:
+    """The source's lines as the parser counts them: ended by LF alone (a CR before it is the
+    line's end too, not a character of it; a bare CR, a form feed or U+2028 ends no line)."""
+    return [x[:-1] if x.endswith("\r") else x for x in source.split("\n")]
+
+
+_SHOWN = str.maketrans({c: " " for c in "\r\f\v\x1c\x1d\x1e\x85\u2028\u2029"})
+
+
 def source_line(source: str, line: int) -> str:
-    lines = source.splitlines()
-    return lines[line - 1] if 0 < line <= len(lines) else ""
+    """Line `line` for showing under a message: a character that would move a terminal's cursor
+    elsewhere shows as a space (one column, as the caret counts it)."""
+    lines = source_lines(source)
+    return lines[line - 1].translate(_SHOWN) if 0 < line <= len(lines) else ""
 
 
 class RclError(Exception):

@@ -16,7 +16,7 @@ from lark import Token, Transformer
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from . import ast as A
-from .errors import Diagnostic, RclStaticError, source_line
+from .errors import Diagnostic, RclStaticError, source_line, source_lines
 from .resources import grammar_path
 
 
@@ -379,7 +379,9 @@ def _syntax_diagnostic(e: UnexpectedInput, source: str, filename: str) -> Diagno
         if tok.start_pos is not None and source.startswith("(*", tok.start_pos):
             message = "unterminated comment: (* has no matching *)"
     else:
-        lines = source.splitlines() or [""]
+        lines = source_lines(source)
+        while len(lines) > 1 and not lines[-1].strip():  # the end of file: after the last text
+            lines.pop()
         line = len(lines)
         col = len(lines[-1]) + 1
         span = A.Span(line, col, line, col)

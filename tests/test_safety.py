@@ -304,3 +304,21 @@ def test_a_cell_file_with_a_number_out_of_range_is_refused_when_loaded(tmp_path,
     r = subprocess.run([sys.executable, "-m", "rcl", "run", str(tmp_path / "one.rcl"), "--cell",
                         str(tmp_path / "cell.toml")], capture_output=True, text=True, timeout=60)
     assert r.returncode == 2 and message in r.stderr and "Traceback" not in r.stderr and r.stdout == ""
+
+
+@pytest.mark.parametrize("text, where, shown", [
+    ("x := 1\ry := \n", "1:13", "x := 1 y := "),
+    ("x := 1\fy := 2\nz := q\n", "2:6", "z := q"),
+    ("x := 1\u2028y := 2\n", "1:7", "x := 1 y := 2"),
+    ("x := 1\r\ny := 1 / 0\r\n", "2:8", "y := 1 / 0"),
+    ("x := 1\x0by := 2\n", "1:7", "x := 1 y := 2"),
+])
+def test_errors_name_the_line_and_column_the_parser_counted(text, where, shown):
+    # one definition of a line everywhere: ended by LF (CRLF counts once); CR, FF, VT, U+2028 end none
+    with pytest.raises((RclStaticError, RclRuntimeError)) as e:
+        Session(out=io.StringIO()).run(text, "f.rcl")
+    lines = e.value.render().split("\n") if isinstance(e.value, RclRuntimeError) else \
+        e.value.diagnostics[0].render().split("\n")
+    assert lines[0].startswith(f"f.rcl:{where}: error:"), lines
+    assert lines[1] == shown, lines
+    assert "^" in lines[2] and lines[2].index("^") == int(where.split(":")[1]) - 1
