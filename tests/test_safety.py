@@ -322,3 +322,21 @@ def test_errors_name_the_line_and_column_the_parser_counted(text, where, shown):
     assert lines[0].startswith(f"f.rcl:{where}: error:"), lines
     assert lines[1] == shown, lines
     assert "^" in lines[2] and lines[2].index("^") == int(where.split(":")[1]) - 1
+
+
+def test_an_image_too_large_for_any_camera_is_refused_before_it_is_decoded(tmp_path):
+    import warnings
+
+    from PIL import Image
+
+    from rcl.camera import ImageError
+    from rcl.camera.images import read_image
+
+    Image.new("L", (13_377, 13_377), 0).save(tmp_path / "huge.png")  # 2.3 MB on disk, 179 M pixels
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # and no DecompressionBombWarning leaks out
+        with pytest.raises(ImageError, match="13377 x 13377 px, more than the 40,000,000 pixels"):
+            read_image(tmp_path / "huge.png")
+    r = subprocess.run([sys.executable, "-m", "rcl", "vision", str(tmp_path / "huge.png")], capture_output=True,
+                       text=True, timeout=60)
+    assert r.returncode != 0 and "more than the 40,000,000 pixels" in r.stderr and "Warning" not in r.stderr

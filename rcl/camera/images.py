@@ -19,13 +19,26 @@ class ImageError(ValueError):
     """A file that is not a usable image."""
 
 
+MAX_PIXELS = 40_000_000  # an image larger than this (a 6,300 x 6,300 frame) is no camera's of a tray
+
+
 def read_image(path: Union[str, Path]) -> np.ndarray:
+    import warnings
+
     from PIL import Image, UnidentifiedImageError
 
     try:
-        with Image.open(path) as im:
-            im.load()
-            return image_array(im)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)  # the size is judged below
+            with Image.open(path) as im:
+                w, h = im.size
+                if w * h > MAX_PIXELS:
+                    raise ImageError(f"{path} is {w} x {h} px, more than the {MAX_PIXELS:,} pixels "
+                                     f"rcl reads (a camera's image of a tray is far smaller)")
+                im.load()
+                return image_array(im)
+    except ImageError:
+        raise
     except FileNotFoundError:
         raise ImageError(f"{path}: no such file") from None
     except IsADirectoryError:
