@@ -10,6 +10,7 @@ Only this module and the REPL print diagnostics.
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import signal
 import sys
@@ -41,6 +42,8 @@ def _parser() -> argparse.ArgumentParser:
     setup = argparse.ArgumentParser(add_help=False)
     setup.add_argument("--step-budget", type=_positive_int, metavar="N",
                        help="stop after N loop iterations and routine calls")
+    setup.add_argument("--time-limit", type=_positive_seconds, metavar="SECONDS",
+                       help="stop a program after this many seconds (the robot is halted; exit 1)")
     setup.add_argument("--camera", metavar="PATH",
                        help="the camera: an image file (the same picture every look) or a folder of images")
     setup.add_argument("--robot", default="sim", metavar="sim|ssc32:PORT[@BAUD]",
@@ -105,6 +108,16 @@ def _natural(text: str) -> int:
     if n < 0:
         raise argparse.ArgumentTypeError(f"must be 0 or more: {n}")
     return n
+
+
+def _positive_seconds(text: str) -> float:
+    try:
+        x = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not (math.isfinite(x) and x > 0):
+        raise argparse.ArgumentTypeError(f"must be a positive number of seconds: {text}")
+    return x
 
 
 def _positive_int(text: str) -> int:
@@ -189,7 +202,8 @@ def _with_setup(args, body) -> int:
     except _SetupError as e:
         return _fail(str(e), EXIT_STATIC)
     try:
-        return body(cell, lambda: Session(step_budget=args.step_budget, cell=cell, data=args.data))
+        return body(cell, lambda: Session(step_budget=args.step_budget, cell=cell, data=args.data,
+                                          time_limit=args.time_limit))
     finally:
         _finish(cell.robot, args)
 

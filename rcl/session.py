@@ -14,6 +14,7 @@ robot and raises RclRuntimeError.
 from __future__ import annotations
 
 import contextlib
+import math
 import os
 import sys
 import time
@@ -47,7 +48,8 @@ class Session:
 
     def __init__(self, *, robot=None, camera=None, camera_model=None, wire_finder=None, out=None,
                  step_budget: Optional[int] = None, search_path: Iterable[str | Path] = (), cell=None,
-                 data: Iterable[str | Path] = (), any_file: bool = False) -> None:
+                 data: Iterable[str | Path] = (), any_file: bool = False,
+                 time_limit: Optional[float] = None) -> None:
         """robot: a rcl.robots.Robot (default: a SimRobot of the smartarms model); camera: anything with
         grab() -> image array, such as rcl.camera.ImageFiles (default: none);
         camera_model: a rcl.camera.Calibration (default: a new, empty one);
@@ -59,7 +61,9 @@ class Session:
         given, a camera model on its tray's plane, its stations, and IMPORT 'cell';
         data: folders programs may read and write files in besides their own (the first is
         where a relative name in LOADWARP or SAVEWARP starts; the cell file's folder is added);
-        any_file: let programs name any path the user may (rcl.files says what is otherwise allowed)."""
+        any_file: let programs name any path the user may (rcl.files says what is otherwise allowed);
+        time_limit: stop a run after this many seconds of wall-clock time (at its next loop
+        iteration or call, as cancel() does; the robot is halted)."""
         from .camera import Calibration
 
         self.cell = cell
@@ -71,6 +75,9 @@ class Session:
         tray_z = cell.tray_z if cell is not None else 0.0
         self.camera_model = camera_model if camera_model is not None else Calibration(z=tray_z)
         self.step_budget = step_budget
+        if time_limit is not None and not (math.isfinite(time_limit) and time_limit > 0):
+            raise ValueError(f"time_limit must be a positive number of seconds, not {time_limit}")
+        self.time_limit = time_limit
         self.search_path = [Path(p) for p in search_path]
         folders = [Path(p) for p in data]
         if cell is not None and cell.config.from_file:
@@ -245,6 +252,13 @@ class Session:
         """Run compiled code with the robot halted on any error."""
         ctx = self._ctx
         ctx.start(self.step_budget)
+        timer = None
+        if self.time_limit is not None:
+            import threading
+
+            timer = threading.Timer(self.time_limit, ctx.cancel, (f"the time limit of {self.time_limit:g} s is spent",))
+            timer.daemon = True
+            timer.start()
         try:
             with _deep_recursion(), np.errstate(all="ignore"):
                 return action()
@@ -261,6 +275,9 @@ class Session:
         except Exception as e:
             self._halt()
             raise RclInternalError(f"internal error: {type(e).__name__}: {e}") from e
+        finally:
+            if timer is not None:
+                timer.cancel()
 
     def _adopt(self, scope: GlobalScope, modules) -> None:
         """Make a checked program's declarations the session's (new globals get their initial values)."""

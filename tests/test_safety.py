@@ -340,3 +340,22 @@ def test_an_image_too_large_for_any_camera_is_refused_before_it_is_decoded(tmp_p
     r = subprocess.run([sys.executable, "-m", "rcl", "vision", str(tmp_path / "huge.png")], capture_output=True,
                        text=True, timeout=60)
     assert r.returncode != 0 and "more than the 40,000,000 pixels" in r.stderr and "Warning" not in r.stderr
+
+
+def test_a_time_limit_stops_a_program_that_runs_on(tmp_path):
+    import time
+
+    from rcl import RclCancelled
+
+    s = Session(out=io.StringIO(), time_limit=0.5)
+    t0 = time.monotonic()
+    with pytest.raises(RclCancelled, match="the time limit of 0.5 s is spent"):
+        s.run("WHILE TRUE DO\n  x := 1\nEND\n", "loop.rcl")
+    assert time.monotonic() - t0 < 3
+    s.run("WRITELN('again')")  # the next run has its own time
+    (tmp_path / "loop.rcl").write_text("WHILE TRUE DO\n  x := COS(1)\nEND\n")
+    r = subprocess.run([sys.executable, "-m", "rcl", "run", str(tmp_path / "loop.rcl"), "--time-limit", "1"],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 1 and "the time limit of 1 s is spent" in r.stderr and "halted" in r.stderr
+    with pytest.raises(ValueError):
+        Session(time_limit=0)
