@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import os
 import random
 import re
 
@@ -16,6 +17,7 @@ from rcl import RclCancelled, RclRuntimeError, RclStaticError, Session
 from rcl.cli import main as cli_main
 from rcl.session import RclInternalError
 
+FUZZ = int(os.environ.get("RCL_FUZZ", "1"))  # benchmarks/fuzz.py runs these with many times the examples
 DIAGNOSTIC = re.compile(r"^[^:\n]+:\d+:\d+: error: ", re.M)
 TOKENS = ["IF", "THEN", "ELSE", "ELSIF", "END", "WHILE", "DO", "REPEAT", "UNTIL", "FOR", "TO", "DOWNTO",
           "BY", "RETURN", "TRY", "EXCEPT", "RAISE", "SOLVE", "IMPORT", "VAR", "CONST", "PROCEDURE",
@@ -52,13 +54,13 @@ def outcome(source: str) -> tuple[int, str, list]:
     return 0, out.getvalue(), s.robot.log
 
 
-@settings(max_examples=400, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=400 * FUZZ, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.lists(st.sampled_from(TOKENS), max_size=40).map(" ".join))
 def test_token_soup(source):
     outcome(source)
 
 
-@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=300 * FUZZ, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.sampled_from(EXAMPLES), st.randoms(use_true_random=False), st.integers(1, 4))
 def test_mutated_programs(source, rnd: random.Random, edits):
     words = re.split(r"(\s+)", source)
@@ -74,10 +76,33 @@ def test_mutated_programs(source, rnd: random.Random, edits):
     outcome("".join(words))
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=200 * FUZZ, deadline=None)
 @given(st.text(max_size=200))
 def test_arbitrary_text(source):
     outcome(source)
+
+
+OPENERS = [("IF TRUE THEN\n", "END\n"), ("WHILE FALSE DO\n", "END\n"), ("REPEAT\n", "UNTIL TRUE\n"),
+           ("FOR i := 1 TO 1 DO\n", "END\n"), ("TRY\n", "EXCEPT\nEND\n"), ("x := -(", ")\n")]
+
+
+@settings(max_examples=40 * FUZZ, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.sampled_from(range(len(OPENERS) - 1)), min_size=1, max_size=8), st.integers(1, 2_200),
+       st.integers(0, 3_000))
+def test_deep_nesting_up_to_and_past_the_limit(kinds, depth, operators):
+    # blocks of mixed kinds nested `depth` deep around an expression of `operators` chained minus
+    # signs: it runs, or it is refused as nested too deeply; nothing else
+    from rcl.parser import MAX_NESTING
+
+    layers = [OPENERS[kinds[i % len(kinds)]] for i in range(depth)]
+    body = "y := " + "-" * operators + "1\n"
+    source = "".join(o for o, _ in layers) + body + "".join(c for _, c in reversed(layers))
+    code, _out, _log = outcome(source)
+    levels = 2 * depth + operators  # a block and its body are two levels; each minus sign one
+    if levels < MAX_NESTING - 10:
+        assert code == 0, (depth, operators)
+    elif levels > MAX_NESTING + 10:
+        assert code == 2 and f"more than {MAX_NESTING} levels" in Session().check(source)[0].message
 
 
 def test_deep_nesting_of_parentheses_and_ifs():
