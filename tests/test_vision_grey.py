@@ -103,7 +103,7 @@ def test_bad_arrays_and_arguments_are_clear_errors():
         find_wires(np.zeros((4, 4, 4, 4)))
     with pytest.raises(VisionError, match="unknown method"):
         find_wires(np.zeros((64, 64)), "sonar")
-    with pytest.raises(VisionError, match="positive"):
+    with pytest.raises(VisionError, match="must be 0.5 to 100 px per mm"):
         find_wires(np.zeros((64, 64)), "grey", 0.0)
 
 
