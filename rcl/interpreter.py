@@ -27,6 +27,16 @@ from .values import default_factory
 RETURN = "return"  # what a statement closure gives when a RETURN ran
 MAX_CALL_DEPTH = 1000
 MAX_STRING = 16 * 1024 * 1024  # characters in one STRING
+MAX_LIVE_ELEMENTS = 20_000_000  # elements in the local arrays of all the routines running at once
+
+
+def _elements(t) -> int:
+    """How many elements an array type holds, nested arrays counted whole."""
+    n = 1
+    while isinstance(t, T.ArrayType) and not t.is_open:
+        n *= t.high - t.low + 1
+        t = t.element
+    return n
 INT_MIN, INT_MAX = -(2**63), 2**63 - 1
 USER_FACING = (BuiltinError, FrameError, ArithmeticError)
 
@@ -57,6 +67,7 @@ class Context:
         self.budget: Optional[int] = None
         self.cancel_reason: Optional[str] = None
         self.cancel_by_user = False
+        self.live_elements = 0  # in the local arrays of the routines running (MAX_LIVE_ELEMENTS)
         self.files = Files()  # the folders programs may touch (rcl.files); the session sets its own
 
     @property
@@ -68,6 +79,7 @@ class Context:
         self.errmsgs.clear()
         self.steps = 0
         self.budget = budget
+        self.live_elements = 0
         self.cancel_reason = None
         self.limit = math.inf if budget is None else budget
 
@@ -117,14 +129,16 @@ class Compiler:
         body = self.block(r.decl.body)
         template: list = [None] * r.frame_size
         fresh = []
+        elements = 0  # in the local arrays each call makes
         for v in r.locals.values():
             if v.kind == "var" and v.declared and v.type is not None:
                 make = default_factory(v.type)
                 if isinstance(v.type, T.ArrayType):
                     fresh.append((v.slot, make))
+                    elements += _elements(v.type)
                 else:
                     template[v.slot] = make()
-        r.code = (body, template, tuple(fresh))
+        r.code = (body, template, tuple(fresh), elements)
 
     # Errors ----------------------------------------------------------------
 
@@ -526,22 +540,28 @@ class Compiler:
         is_function, name = r.is_function, r.name
 
         def call(fr):
-            body, template, fresh = r.code
+            body, template, fresh, elements = r.code
             new = template.copy()
             for k, a in enumerate(fs):
                 new[k] = a(fr)
-            for k, mk in fresh:
-                new[k] = mk()
             ctx.steps += 1
             if ctx.steps > ctx.limit:
                 ctx.interrupt(filename, span)
             if len(stack) >= MAX_CALL_DEPTH:
                 raise make(f"recursion too deep: more than {MAX_CALL_DEPTH} nested calls", span)
+            if elements:
+                if ctx.live_elements + elements > MAX_LIVE_ELEMENTS:
+                    raise make(f"too much array memory: the local arrays of the routines running would hold "
+                               f"{ctx.live_elements + elements:,} elements (at most {MAX_LIVE_ELEMENTS:,})", span)
+                ctx.live_elements += elements
+                for k, mk in fresh:
+                    new[k] = mk()
             stack.append(entry)
             try:
                 status = body(new)
             finally:
                 stack.pop()
+                ctx.live_elements -= elements
             if is_function:
                 if status is None:
                     raise make(f"function {name} ended without RETURN", span)

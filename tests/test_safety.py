@@ -359,3 +359,16 @@ def test_a_time_limit_stops_a_program_that_runs_on(tmp_path):
     assert r.returncode == 1 and "the time limit of 1 s is spent" in r.stderr and "halted" in r.stderr
     with pytest.raises(ValueError):
         Session(time_limit=0)
+
+
+def test_recursion_with_large_local_arrays_stops_at_a_memory_bound():
+    from rcl.interpreter import MAX_LIVE_ELEMENTS
+
+    program = ("PROCEDURE P(n : INTEGER)\n  VAR a : ARRAY[1..10000000] OF REAL\n  a[n + 1] := n\n"
+               "  IF n > 0 THEN P(n - 1) END\nEND\nP(1000)\n")
+    with pytest.raises(RclRuntimeError, match=f"too much array memory: .* 30,000,000 elements .at most "
+                                              f"{MAX_LIVE_ELEMENTS:,}"):
+        Session(out=io.StringIO()).run(program, "arr.rcl")
+    out = io.StringIO()  # P(1) holds 20,000,000 at its deepest: within the bound, and given back as it returns
+    Session(out=out).run(program.replace("P(1000)", "P(1)\nP(1)\nP(1)\nWRITELN('done')"), "arr.rcl")
+    assert out.getvalue() == "done\n"
