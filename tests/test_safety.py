@@ -118,17 +118,17 @@ def test_import_of_a_long_name_and_from_a_declared_folder(place):
 def test_the_cli_refuses_a_path_out_with_a_located_error_and_takes_data_folders(place):
     prog = place / "prog"
     (prog / "p.rcl").write_text(f"{FIT}\nr := FITWARP()\nSAVEWARP('{place}/outside/w.json')\n")
-    r = subprocess.run([sys.executable, "-m", "rcl", "run", str(prog / "p.rcl")], capture_output=True,
+    r = subprocess.run(check=False, args=[sys.executable, "-m", "rcl", "run", str(prog / "p.rcl")], capture_output=True,
                        text=True, timeout=120, cwd=place)  # the working folder is not the program's
     assert r.returncode == 1 and "Traceback" not in r.stderr
     assert f"p.rcl:{FIT.count(chr(10)) + 3}:1: error: SAVEWARP:" in r.stderr, r.stderr
     assert not (place / "outside" / "w.json").exists()
     (prog / "p.rcl").write_text(f"{FIT}\nr := FITWARP()\nSAVEWARP('w.json')\n")
-    r = subprocess.run([sys.executable, "-m", "rcl", "run", str(prog / "p.rcl"), "--data", str(place / "data")],
+    r = subprocess.run(check=False, args=[sys.executable, "-m", "rcl", "run", str(prog / "p.rcl"), "--data", str(place / "data")],
                        capture_output=True, text=True, timeout=120, cwd=place)
     assert r.returncode == 0, r.stderr
     assert (place / "data" / "w.json").is_file()
-    r = subprocess.run([sys.executable, "-m", "rcl", "run", str(prog / "p.rcl"), "--data", str(place / "nope")],
+    r = subprocess.run(check=False, args=[sys.executable, "-m", "rcl", "run", str(prog / "p.rcl"), "--data", str(place / "nope")],
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 2 and "--data:" in r.stderr and "not a folder" in r.stderr
 
@@ -163,7 +163,7 @@ def test_nesting_just_within_the_limit_runs_and_the_cli_never_crashes(tmp_path):
     Session(out=out).run(nested("IF TRUE THEN\n", "END\n", 1_900) + "x := " + "-" * 3_001 + "1\nWRITELN(x)\n")
     assert out.getvalue() == "1\n-1\n"
     (tmp_path / "deep.rcl").write_text(nested("IF TRUE THEN\n", "END\n", 10_000))
-    r = subprocess.run([sys.executable, "-m", "rcl", "run", str(tmp_path / "deep.rcl")], capture_output=True,
+    r = subprocess.run(check=False, args=[sys.executable, "-m", "rcl", "run", str(tmp_path / "deep.rcl")], capture_output=True,
                        text=True, timeout=120)
     assert r.returncode == 2 and "deep.rcl:2001:1: error: the program nests too deeply" in r.stderr
 
@@ -172,7 +172,7 @@ def test_a_camera_model_file_nested_deep_is_refused_not_a_crash(tmp_path):
     (tmp_path / "deep.json").write_text('{"format": "rcl-camera-model", "fit": ' + "[" * 70_000 + "]" * 70_000 + "}")
     with pytest.raises(RclRuntimeError, match="nested 70001 deep: not a camera-model file"):
         Session(out=io.StringIO(), data=[tmp_path]).run("LOADWARP('deep.json')", "x.rcl")
-    r = subprocess.run([sys.executable, "-m", "rcl", "calib", "apply", str(tmp_path / "deep.json"),
+    r = subprocess.run(check=False, args=[sys.executable, "-m", "rcl", "calib", "apply", str(tmp_path / "deep.json"),
                         str(tmp_path / "q.csv")], capture_output=True, text=True, timeout=120)
     assert r.returncode != 0 and "nested 70001 deep" in r.stderr and "Traceback" not in r.stderr
 
@@ -210,7 +210,7 @@ def test_ctrl_c_while_checking_or_seeing_ends_with_130_and_a_message(tmp_path):
                                 text=True)
         time.sleep(1.5)
         proc.send_signal(signal.SIGINT)
-        out, err = proc.communicate(timeout=60)
+        _out, err = proc.communicate(timeout=60)
         assert proc.returncode == 130 and "interrupted" in err and "Traceback" not in err, (args, err[-500:])
 
 
@@ -231,7 +231,7 @@ def test_a_camera_model_with_a_bad_fit_is_a_clear_error(place, fit, message):
     text = json.dumps(doc)[:-1] + ', "fit": ' + fit + "}"
     (place / "bad.json").write_text(text)
     (place / "q.csv").write_text("u,v\n10,20\n")
-    r = subprocess.run([sys.executable, "-m", "rcl", "calib", "apply", str(place / "bad.json"), str(place / "q.csv")],
+    r = subprocess.run(check=False, args=[sys.executable, "-m", "rcl", "calib", "apply", str(place / "bad.json"), str(place / "q.csv")],
                        capture_output=True, text=True, timeout=60)
     assert r.returncode == 2 and message in r.stderr and "Traceback" not in r.stderr, r.stderr[-300:]
 
@@ -241,7 +241,7 @@ def test_rcl_vision_refuses_a_scale_no_camera_has(tmp_path):
 
     Image.new("L", (64, 64), 128).save(tmp_path / "grey.png")
     for scale in ("inf", "1e-9", "1e6", "nan", "0"):
-        r = subprocess.run([sys.executable, "-m", "rcl", "vision", str(tmp_path / "grey.png"), "--px-per-mm", scale],
+        r = subprocess.run(check=False, args=[sys.executable, "-m", "rcl", "vision", str(tmp_path / "grey.png"), "--px-per-mm", scale],
                            capture_output=True, text=True, timeout=60)
         assert r.returncode == 2 and "the scale must be 0.5 to 100 px per mm" in r.stderr, r.stderr[-300:]
 
@@ -266,7 +266,7 @@ def test_an_arm_model_with_a_bad_number_is_refused_when_loaded(tmp_path, change,
     (tmp_path / "arm.toml").write_text(text.replace(old, new))
     with pytest.raises(RobotError, match=message):
         load_model(tmp_path / "arm.toml")
-    r = subprocess.run([sys.executable, "-m", "rcl", "run", "nothing.rcl", "--model", str(tmp_path / "arm.toml")],
+    r = subprocess.run(check=False, args=[sys.executable, "-m", "rcl", "run", "nothing.rcl", "--model", str(tmp_path / "arm.toml")],
                        capture_output=True, text=True, timeout=60, cwd=tmp_path)
     assert r.returncode == 2 and message in r.stderr and "Traceback" not in r.stderr, r.stderr[-300:]
 
@@ -301,7 +301,7 @@ def test_a_cell_file_with_a_number_out_of_range_is_refused_when_loaded(tmp_path,
     with pytest.raises(CellConfigError, match=message.replace("(", r"\(").replace(")", r"\)")):
         load_config(tmp_path / "cell.toml")
     (tmp_path / "one.rcl").write_text("WRITELN(1)\n")
-    r = subprocess.run([sys.executable, "-m", "rcl", "run", str(tmp_path / "one.rcl"), "--cell",
+    r = subprocess.run(check=False, args=[sys.executable, "-m", "rcl", "run", str(tmp_path / "one.rcl"), "--cell",
                         str(tmp_path / "cell.toml")], capture_output=True, text=True, timeout=60)
     assert r.returncode == 2 and message in r.stderr and "Traceback" not in r.stderr and r.stdout == ""
 
@@ -337,7 +337,7 @@ def test_an_image_too_large_for_any_camera_is_refused_before_it_is_decoded(tmp_p
         warnings.simplefilter("error")  # and no DecompressionBombWarning leaks out
         with pytest.raises(ImageError, match="13377 x 13377 px, more than the 40,000,000 pixels"):
             read_image(tmp_path / "huge.png")
-    r = subprocess.run([sys.executable, "-m", "rcl", "vision", str(tmp_path / "huge.png")], capture_output=True,
+    r = subprocess.run(check=False, args=[sys.executable, "-m", "rcl", "vision", str(tmp_path / "huge.png")], capture_output=True,
                        text=True, timeout=60)
     assert r.returncode != 0 and "more than the 40,000,000 pixels" in r.stderr and "Warning" not in r.stderr
 
@@ -354,7 +354,7 @@ def test_a_time_limit_stops_a_program_that_runs_on(tmp_path):
     assert time.monotonic() - t0 < 3
     s.run("WRITELN('again')")  # the next run has its own time
     (tmp_path / "loop.rcl").write_text("WHILE TRUE DO\n  x := COS(1)\nEND\n")
-    r = subprocess.run([sys.executable, "-m", "rcl", "run", str(tmp_path / "loop.rcl"), "--time-limit", "1"],
+    r = subprocess.run(check=False, args=[sys.executable, "-m", "rcl", "run", str(tmp_path / "loop.rcl"), "--time-limit", "1"],
                        capture_output=True, text=True, timeout=60)
     assert r.returncode == 1 and "the time limit of 1 s is spent" in r.stderr and "halted" in r.stderr
     with pytest.raises(ValueError):
