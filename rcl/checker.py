@@ -14,7 +14,7 @@ stable pass are the program's errors.
 from __future__ import annotations
 
 import difflib
-from typing import Optional
+from typing import Callable, Optional
 
 from . import ast as A
 from . import types as T
@@ -26,6 +26,7 @@ from .solve import SolveError, solve
 
 MAX_PASSES = 64
 MAX_ARRAY_ELEMENTS = 10_000_000
+MAX_SUGGESTIONS = 20  # unknown names per check that get a "did you mean"
 INT_MAX = 2**63 - 1
 
 
@@ -90,7 +91,15 @@ class Checker:
             self.errors.append(Diagnostic(self.module.filename, span, message,
                                           source_line(self.module.source, span.line)))
 
-    def _suggest(self, key: str, candidates: dict[str, str]) -> str:
+    def _suggest(self, key: str, candidates: dict[str, str] | Callable[[], dict[str, str]]) -> str:
+        """'; did you mean NAME?' for a near name, for the first MAX_SUGGESTIONS unknown names of a
+        check (each search compares with every name: thousands of unknown names in a big file
+        must not cost quadratic time)."""
+        self._suggested = getattr(self, "_suggested", 0) + 1
+        if self._suggested > MAX_SUGGESTIONS:
+            return ""
+        if callable(candidates):
+            candidates = candidates()
         close = difflib.get_close_matches(key, list(candidates), n=1, cutoff=0.75)
         return f"; did you mean {candidates[close[0]]}?" if close else ""
 
@@ -355,7 +364,7 @@ class Checker:
         if isinstance(e, A.Name):
             v = self.lookup(e.ident.key)
             if v is None:
-                self.error(e.span, f"unknown name {e.ident.text}{self._suggest(e.ident.key, self._visible_names())}")
+                self.error(e.span, f"unknown name {e.ident.text}{self._suggest(e.ident.key, self._visible_names)}")
                 return T.ANY
             if v.kind == "const":
                 self.error(e.span, f"{v.name} is a constant; it cannot be assigned")
@@ -621,7 +630,7 @@ class Checker:
             t = self.call(call)
             e.symbol = call.symbol
             return t
-        self.error(e.span, f"unknown name {e.ident.text}{self._suggest(key, self._visible_names())}")
+        self.error(e.span, f"unknown name {e.ident.text}{self._suggest(key, self._visible_names)}")
         return T.ANY
 
     def expr_Field(self, e: A.Field) -> T.Type:
@@ -670,7 +679,7 @@ class Checker:
         if target is None:
             for a in e.args:
                 self.expr(a)
-            hint = self._suggest(key, self._routine_names())
+            hint = self._suggest(key, self._routine_names)
             self.error(e.callee.span, f"unknown routine {e.callee.text}{hint}")
             return T.ANY
         e.symbol = target

@@ -7,6 +7,7 @@ line and a caret under the column.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Optional
 
 from .ast import Span
@@ -35,10 +36,11 @@ class Diagnostic:
         return f"{head}\n{line}\n{pad}^{'~' * (width - 1)}"
 
 
-def source_lines(source: str) -> list[str]:
+@lru_cache(maxsize=4)  # a file with thousands of errors splits once (a str caches its own hash)
+def source_lines(source: str) -> tuple[str, ...]:
     """The source's lines as the parser counts them: ended by LF alone (a CR before it is the
     line's end too, not a character of it; a bare CR, a form feed or U+2028 ends no line)."""
-    return [x[:-1] if x.endswith("\r") else x for x in source.split("\n")]
+    return tuple(x[:-1] if x.endswith("\r") else x for x in source.split("\n"))
 
 
 _SHOWN = str.maketrans({c: " " for c in "\r\f\v\x1c\x1d\x1e\x85\u2028\u2029"})

@@ -379,7 +379,7 @@ def _syntax_diagnostic(e: UnexpectedInput, source: str, filename: str) -> Diagno
         if tok.start_pos is not None and source.startswith("(*", tok.start_pos):
             message = "unterminated comment: (* has no matching *)"
     else:
-        lines = source_lines(source)
+        lines = list(source_lines(source))
         while len(lines) > 1 and not lines[-1].strip():  # the end of file: after the last text
             lines.pop()
         line = len(lines)

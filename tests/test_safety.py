@@ -372,3 +372,18 @@ def test_recursion_with_large_local_arrays_stops_at_a_memory_bound():
     out = io.StringIO()  # P(1) holds 20,000,000 at its deepest: within the bound, and given back as it returns
     Session(out=out).run(program.replace("P(1000)", "P(1)\nP(1)\nP(1)\nWRITELN('done')"), "arr.rcl")
     assert out.getvalue() == "done\n"
+
+
+def test_only_the_first_unknown_names_get_a_suggestion():
+    # each suggestion compares with every name: a file with thousands of unknown names must not
+    # cost quadratic time (10,000 CONSTs naming the next one took over 120 s to check)
+    from rcl.checker import MAX_SUGGESTIONS
+
+    source = "\n".join(f"CONST value{i} = value{i + 1} + 1" for i in range(300)) + "\nCONST value300 = 0\n"
+    diagnostics = Session().check(source, "c.rcl")
+    unknown = [d for d in diagnostics if d.message.startswith("unknown name")]
+    assert len(unknown) == 300
+    assert any("did you mean" in d.message for d in unknown[:MAX_SUGGESTIONS])
+    assert not any("did you mean" in d.message for d in unknown[MAX_SUGGESTIONS:])
+    assert [d.span.line for d in unknown] == list(range(1, 301))  # every line shown is its own
+    assert all(d.source_line.startswith(f"CONST value{d.span.line - 1} ") for d in unknown)
