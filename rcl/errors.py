@@ -40,7 +40,7 @@ class Diagnostic:
 def source_lines(source: str) -> tuple[str, ...]:
     """The source's lines as the parser counts them: ended by LF alone (a CR before it is the
     line's end too, not a character of it; a bare CR, a form feed or U+2028 ends no line)."""
-    return tuple(x[:-1] if x.endswith("\r") else x for x in source.split("\n"))
+    return tuple(x.removesuffix("\r") for x in source.split("\n"))
 
 
 _SHOWN = str.maketrans({c: " " for c in "\r\f\v\x1c\x1d\x1e\x85\u2028\u2029"})
