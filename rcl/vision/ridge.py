@@ -804,10 +804,11 @@ class _EndReader:
         grasp = np.array([np.interp(GRASP_MM * mm, s, full[:, 0]), np.interp(GRASP_MM * mm, s, full[:, 1])])
         near = (s >= (GRASP_MM - TANGENT_MM) * mm) & (s <= (GRASP_MM + TANGENT_MM) * mm)
         tangent = principal_direction(full[near]) if near.sum() >= 3 else inward
-        why = self.crowded(full, s, tip, out, grasp, width, board, level)
+        span = self.span(full, grasp, width)
+        why = self.crowded(span, tip, out, width, board, level)
         if why:
             return self.refuse(start, why)
-        clutter = self.clutter(full, tip, out, grasp, width, board)
+        clutter = self.clutter(span, tip, out, width, board)
         grasp = self.centred(grasp, tangent, width)
         return self.sighting(on_axis, inward, grasp, tangent, 1.0 / (1.0 + clutter))
 
@@ -927,23 +928,36 @@ class _EndReader:
             widths.append((hi - lo + 1) * 0.5)
         return float(np.clip(np.median(widths), 1.0, 4.0 * self.wppm)) if widths else 2.0
 
-    def crowded(self, full, s, tip, out, grasp, width, board, level) -> str:
+    def span(self, full, grasp, width) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """What the free test and the room round an end look beside: the centre line along the
+        span (its first SPAN_MM and the slack: what lies beside the wire further on is no
+        matter) at 1 px steps, its normals, and the points of the CLEARANCE_MM disc round the
+        grasp point less the wire itself (clear of its centre line near the grasp point)."""
+        mm = self.wppm
+        dense = _resample(full, 1.0)
+        ds = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))])
+        along = ds <= (SPAN_MM + SPAN_SLACK_MM) * mm
+        disc = _disc(CLEARANCE_MM * mm) + grasp
+        local = dense[np.abs(ds - GRASP_MM * mm) <= (CLEARANCE_MM + 3.0) * mm]
+        if len(local):
+            d2 = ((disc * disc).sum(axis=1)[:, None] + (local * local).sum(axis=1)[None, :]
+                  - 2.0 * disc @ local.T).min(axis=1)
+            disc = disc[d2 > (width / 2 + 0.6 * SIDE_FREE_MM * mm) ** 2]
+        return dense[along], _normals(dense)[along], disc
+
+    def crowded(self, span, tip, out, width, board, level) -> str:
         """Why the wire near its end is not free (board must show around it), or ''."""
         mm = self.wppm
         half = width / 2
-        dense = _resample(full, 1.0)
-        ds = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))])
-        # beside the span (its first SPAN_MM: what lies beside the wire further on is no matter), both sides
-        n = _normals(dense)
-        span = ds <= (SPAN_MM + SPAN_SLACK_MM) * mm
+        line, n, disc = span
+        # beside the span, both sides
         offs = half + np.array([0.6, 0.9, 1.2]) * SIDE_FREE_MM * mm
-        band = (dense[span, None, None, :] + (np.array([-1, 1])[None, :, None, None] * offs[None, None, :, None])
-                * n[span, None, None, :]).reshape(-1, 2)
+        band = (line[:, None, None, :] + (np.array([-1, 1])[None, :, None, None] * offs[None, None, :, None])
+                * n[:, None, None, :]).reshape(-1, 2)
         # beyond the tip
         dirs = _fan(out)
         cap = (tip[None, None, :] + (half + np.array([0.7, 1.0, 1.4, 2.0, 2.8]) * SIDE_FREE_MM * mm)[None, :, None]
                * dirs[:, None, :]).reshape(-1, 2)
-        disc = self.disc(grasp, dense, ds, half)
         values = self._seen(np.vstack((band, cap, disc)))
         hit = values >= board
         nb, nc = len(band), len(cap)
@@ -954,7 +968,7 @@ class _EndReader:
             return "its contrast fades but goes on past its end"
         # beside the span, something that goes on for RUN_MM along it (a speck of the board's
         # texture or a thin printed line does not)
-        runs = hit[:nb].reshape(int(span.sum()), -1)
+        runs = hit[:nb].reshape(len(line), -1)
         need = max(round(RUN_MM * mm), 2)
         if runs.shape[0] >= need:  # a run of `need` hits down any one column
             c = np.cumsum(np.vstack([np.zeros((1, runs.shape[1]), int), runs]), axis=0)
@@ -966,7 +980,7 @@ class _EndReader:
             return "no room for the fingers at the grasp point"
         return ""
 
-    def clutter(self, full, tip, out, grasp, width, board) -> float:
+    def clutter(self, span, tip, out, width, board) -> float:
         """How near something comes to a free end: the most contrast, relative to the board's
         threshold, in bands ROOM_BAND_MM out from the wire's edges along its span (each band's
         ROOM_PERCENTILE), on arcs ROOM_CAP_MM beyond its tip (the most), and in the disc round
@@ -975,10 +989,7 @@ class _EndReader:
         small or too short to count there)."""
         mm = self.wppm
         half = width / 2
-        dense = _resample(full, 1.0)
-        ds = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))])
-        n = _normals(dense)[ds <= (SPAN_MM + SPAN_SLACK_MM) * mm]
-        line = dense[ds <= (SPAN_MM + SPAN_SLACK_MM) * mm]
+        line, n, disc = span
         worst = []
         for d in ROOM_BAND_MM:
             off = half + d * mm
@@ -986,22 +997,9 @@ class _EndReader:
             worst.append(np.percentile(self._seen(band), ROOM_PERCENTILE))
         cap = (tip[None, None, :] + (half + np.array(ROOM_CAP_MM) * mm)[:, None, None] * _fan(out)[None, :, :])
         worst.append(self._seen(cap.reshape(-1, 2)).max())
-        disc = self.disc(grasp, dense, ds, half)
         if len(disc):
             worst.append(np.percentile(self._seen(disc), ROOM_PERCENTILE))
         return float(max(worst)) / board
-
-    def disc(self, grasp, dense, ds, half) -> np.ndarray:
-        """Points of the CLEARANCE_MM disc round the grasp point, less the wire itself (clear of
-        its centre line near the grasp point, dense at arc lengths ds)."""
-        mm = self.wppm
-        disc = _disc(CLEARANCE_MM * mm) + grasp
-        local = dense[np.abs(ds - GRASP_MM * mm) <= (CLEARANCE_MM + 3.0) * mm]
-        if len(local):
-            d2 = ((disc * disc).sum(axis=1)[:, None] + (local * local).sum(axis=1)[None, :]
-                  - 2.0 * disc @ local.T).min(axis=1)
-            disc = disc[d2 > (half + 0.6 * SIDE_FREE_MM * mm) ** 2]
-        return disc
 
     def _seen(self, pts: np.ndarray) -> np.ndarray:
         """around() at the points; nothing where they fall off the image or within RIM_EDGE_MM of a
