@@ -26,7 +26,7 @@ from .solve import SolveError, solve
 
 MAX_PASSES = 64
 MAX_ARRAY_ELEMENTS = 10_000_000
-MAX_SUGGESTIONS = 20  # unknown names per check that get a "did you mean"
+MAX_SUGGESTIONS = 20  # unknown names per pass of the checker that get a "did you mean"
 INT_MAX = 2**63 - 1
 
 
@@ -43,6 +43,7 @@ class Checker:
         self.changed = False
         self.reporting = True
         self._visited: set[int] = set()
+        self._suggested = 0  # unknown names given a suggestion in this pass (MAX_SUGGESTIONS)
 
     # Entry point ---------------------------------------------------------
 
@@ -55,6 +56,7 @@ class Checker:
         declaration_errors = self.errors
         for _ in range(MAX_PASSES):
             self.errors = []
+            self._suggested = 0  # each pass reports afresh; the last one's errors are kept
             self.changed = False
             self._visited = set()
             for m in modules:
@@ -93,9 +95,9 @@ class Checker:
 
     def _suggest(self, key: str, candidates: dict[str, str] | Callable[[], dict[str, str]]) -> str:
         """'; did you mean NAME?' for a near name, for the first MAX_SUGGESTIONS unknown names of a
-        check (each search compares with every name: thousands of unknown names in a big file
+        pass (each search compares with every name: thousands of unknown names in a big file
         must not cost quadratic time)."""
-        self._suggested = getattr(self, "_suggested", 0) + 1
+        self._suggested += 1
         if self._suggested > MAX_SUGGESTIONS:
             return ""
         if callable(candidates):
@@ -221,11 +223,7 @@ class Checker:
         if high < low:
             self.error(texpr.span, f"array bounds [{low}..{high}] are empty (the high bound is below the low)")
             return T.ANY
-        size = high - low + 1
-        inner = element
-        while isinstance(inner, T.ArrayType) and not inner.is_open:
-            size *= inner.high - inner.low + 1
-            inner = inner.element
+        size = (high - low + 1) * T.element_count(element)
         if size > MAX_ARRAY_ELEMENTS:
             self.error(texpr.span, f"array of {size} elements is too large (at most {MAX_ARRAY_ELEMENTS})")
             return T.ANY
