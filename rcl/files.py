@@ -42,14 +42,16 @@ class Files:
         self.anywhere = anywhere
         self.program: Path | None = None  # the running program's folder (set by the session)
 
-    def home(self) -> Path:
-        """Where a relative name starts: the first data folder, else the program's folder."""
-        if self.data:
-            return self.data[0]
+    def _own(self) -> Path:
+        """The program's folder (the working folder before a program has run)."""
         return self.program if self.program is not None else _real(Path.cwd())
 
+    def home(self) -> Path:
+        """Where a relative name starts: the first data folder, else the program's folder."""
+        return self.data[0] if self.data else self._own()
+
     def _roots(self, writing: bool) -> list[Path]:
-        mine = [self.program if self.program is not None else _real(Path.cwd()), *self.data]
+        mine = [self._own(), *self.data]
         return mine if writing else [*mine, *self.search, self.stdlib]
 
     def allowed(self, path: Path, writing: bool = False) -> bool:
@@ -75,15 +77,6 @@ class Files:
                               f"{'write' if writing else 'read'}: {self.where(writing)}")
         if writing and path.exists() and not path.is_file():
             raise FileRefused(f"{name!r} is not a regular file")
-        return path
-
-    def read_bytes(self, name: str) -> bytes:
-        """A file's bytes, within the rules; FileRefused or OSError say why not."""
-        return read_limited(self.resolve(name), name)
-
-    def write_text(self, name: str, text: str) -> Path:
-        path = self.resolve(name, writing=True)
-        path.write_text(text, encoding="utf-8")
         return path
 
 

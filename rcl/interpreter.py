@@ -28,15 +28,6 @@ RETURN = "return"  # what a statement closure gives when a RETURN ran
 MAX_CALL_DEPTH = 1000
 MAX_STRING = 16 * 1024 * 1024  # characters in one STRING
 MAX_LIVE_ELEMENTS = 20_000_000  # elements in the local arrays of all the routines running at once
-
-
-def _elements(t) -> int:
-    """How many elements an array type holds, nested arrays counted whole."""
-    n = 1
-    while isinstance(t, T.ArrayType) and not t.is_open:
-        n *= t.high - t.low + 1
-        t = t.element
-    return n
 INT_MIN, INT_MAX = -(2**63), 2**63 - 1
 USER_FACING = (BuiltinError, FrameError, ArithmeticError)
 
@@ -53,7 +44,8 @@ class Context:
     and the step counter that cancellation and the step budget use.
     """
 
-    def __init__(self, robot=None, camera=None, camera_model=None, wire_finder=None, out=None, cell=None) -> None:
+    def __init__(self, robot=None, camera=None, camera_model=None, wire_finder=None, out=None, cell=None,
+                 files: Optional[Files] = None) -> None:
         self.robot = robot
         self.cell = cell  # the simulated cell (rcl.cell.SimCell) with its stations, or None
         self.camera = camera
@@ -68,7 +60,7 @@ class Context:
         self.cancel_reason: Optional[str] = None
         self.cancel_by_user = False
         self.live_elements = 0  # in the local arrays of the routines running (MAX_LIVE_ELEMENTS)
-        self.files = Files()  # the folders programs may touch (rcl.files); the session sets its own
+        self.files = files if files is not None else Files()  # the folders programs may touch (rcl.files)
 
     @property
     def out(self):
@@ -135,7 +127,7 @@ class Compiler:
                 make = default_factory(v.type)
                 if isinstance(v.type, T.ArrayType):
                     fresh.append((v.slot, make))
-                    elements += _elements(v.type)
+                    elements += T.element_count(v.type)
                 else:
                     template[v.slot] = make()
         r.code = (body, template, tuple(fresh), elements)

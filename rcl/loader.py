@@ -41,7 +41,7 @@ def load(source: str, filename: str, key: str, base: Path, known: dict[str, A.Mo
          files: Optional[Files] = None) -> list[A.Module]:
     """[main, new imported modules...]; raises RclStaticError with every load problem.
     made: modules held in memory, by lower-case name: (the name diagnostics show, source);
-    files: the folders a program may read (rcl.files), if it is confined."""
+    files: the folders a program may read (rcl.files)."""
     main = parse(source, filename)
     main.key = key
     modules = [main]

@@ -90,8 +90,7 @@ class Session:
             wire_finder = self._find_wire
         sim = cell.sim if cell is not None and self.robot is cell.robot and self.camera is cell.camera else None
         self._made = {"cell": ("cell.rcl", cell.module_source())} if cell is not None else {}
-        self._ctx = Context(self.robot, self.camera, self.camera_model, wire_finder, out, cell=sim)
-        self._ctx.files = self.files
+        self._ctx = Context(self.robot, self.camera, self.camera_model, wire_finder, out, cell=sim, files=self.files)
         self._scope = GlobalScope(builtins=default_builtins())
         self._values: list = []
         self._ran: set[str] = set()
@@ -228,7 +227,7 @@ class Session:
         with _deep_recursion():
             try:
                 modules = load(source, filename, key, base, self._scope.modules, self.search_path, self._made,
-                               None if self.files.anywhere else self.files)
+                               self.files)
             except RclStaticError as e:
                 return None, e.diagnostics, None
             scope = self._scope.fork()

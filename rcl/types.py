@@ -95,6 +95,15 @@ def is_numeric(t: Type) -> bool:
     return t is INTEGER or t is REAL or t == INTEGER or t == REAL
 
 
+def element_count(t: Type) -> int:
+    """How many elements a value of t holds: 1 for a scalar, nested arrays counted whole."""
+    n = 1
+    while isinstance(t, ArrayType) and not t.is_open:
+        n *= t.high - t.low + 1
+        t = t.element
+    return n
+
+
 def contains_frame(t: Type) -> bool:
     """Whether values of t must live in a frame name (frames and arrays of them)."""
     while isinstance(t, ArrayType):

@@ -142,10 +142,10 @@ def cos(a: float) -> float:
 
 def tan(a: float) -> float:
     """TAN(a): the tangent of a degrees."""
-    _angle("TAN", a)
+    r = _angle("TAN", a)
     if (a - 90.0) % 180.0 == 0.0:
         raise BuiltinError(f"TAN is infinite at {format_value(float(a))} degrees")
-    return math.tan(math.radians(a))
+    return math.tan(r)
 
 
 def _unit_interval(name: str, x: float) -> float:

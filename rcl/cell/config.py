@@ -17,6 +17,7 @@ from typing import Any, Optional
 import numpy as np
 
 from ..frame import Frame
+from ..vision import MAX_PX_PER_MM, MIN_PX_PER_MM
 from ..vision.scenes import SLICES
 
 DEFAULT = Path(__file__).with_name("sim.toml")
@@ -201,8 +202,8 @@ def _check(data: dict, source: str) -> None:
             fail(f"{name} must be {low} to {high}, not {v}")
     if camera["width"] < 64 or camera["width"] > 4096:
         fail(f"camera.width must be 64 to 4096 px, not {camera['width']}")
-    if camera["px_per_mm"] != 0 and not 0.5 <= camera["px_per_mm"] <= 100:
-        fail("camera.px_per_mm must be 0 (from the width and fov) or 0.5 to 100")
+    if camera["px_per_mm"] != 0 and not MIN_PX_PER_MM <= camera["px_per_mm"] <= MAX_PX_PER_MM:
+        fail(f"camera.px_per_mm must be 0 (from the width and fov) or {MIN_PX_PER_MM:g} to {MAX_PX_PER_MM:g}")
     if not 0 <= camera["tilt_deg"] < 45:
         fail(f"camera.tilt_deg must be 0 to 45, not {camera['tilt_deg']}")
     if tray["look"] not in LOOKS:

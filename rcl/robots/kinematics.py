@@ -143,12 +143,16 @@ def _real(value, key: str, positive: bool = False) -> float:
     return float(value)
 
 
+def _whole(v) -> bool:
+    return isinstance(v, int) and not isinstance(v, bool)
+
+
 def _check_ssc32(cfg: dict, axes: int) -> None:
     """The [ssc32] section: a channel (0-31, each once), a pulse width per degree (finite, not
     zero) and a direction (1 or -1) per joint; the gripper's channel and pulse widths; the baud."""
     def ints(key, default=None):
         v = cfg.get(key, default)
-        if not isinstance(v, list) or not all(isinstance(x, int) and not isinstance(x, bool) for x in v):
+        if not isinstance(v, list) or not all(_whole(x) for x in v):
             raise ValueError(f"ssc32.{key} must be a list of whole numbers")
         return v
     channels = ints("channels")
@@ -166,14 +170,14 @@ def _check_ssc32(cfg: dict, axes: int) -> None:
     if not all(d in (1, -1) for d in direction):
         raise ValueError("ssc32.direction must hold 1 or -1 per joint")
     grip = cfg.get("gripper_channel", -1)
-    if isinstance(grip, bool) or not isinstance(grip, int) or not -1 <= grip <= 31 or grip in channels:
+    if not _whole(grip) or not -1 <= grip <= 31 or grip in channels:
         raise ValueError("ssc32.gripper_channel must be a channel 0 to 31 no joint uses (or -1: none)")
     for key in ("gripper_open_us", "gripper_closed_us"):
         v = cfg.get(key, 1500)
-        if isinstance(v, bool) or not isinstance(v, int) or not 500 <= v <= 2500:
+        if not _whole(v) or not 500 <= v <= 2500:
             raise ValueError(f"ssc32.{key} must be a pulse width of 500 to 2500 us, not {str(v)[:40]}")
     baud = cfg.get("baud", 115200)
-    if isinstance(baud, bool) or not isinstance(baud, int) or not 300 <= baud <= 4_000_000:
+    if not _whole(baud) or not 300 <= baud <= 4_000_000:
         raise ValueError(f"ssc32.baud must be a whole number of baud, not {str(baud)[:40]}")
 
 
