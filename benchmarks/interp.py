@@ -5,6 +5,8 @@ Prints one table:
     same loop in Python with numpy.linalg.inv (the obvious way) and with a closed-form rigid inverse;
   - a 1,000,000-step scalar loop in RCL and in Python;
   - parse + check of a generated 2,000-line program;
+  - with --large: parse and check apart for 100,000-line programs of four shapes (issue 13, point 8),
+    per line and per token, to state the bound docs/language.md gives;
   - `rcl run` start-up for a one-line script (a fresh process, median of several).
 """
 from __future__ import annotations
@@ -120,6 +122,39 @@ def parse_check(source: str) -> float:
     return best(once)
 
 
+def large_programs() -> None:
+    """Parse and check time of big programs, once each (they take seconds)."""
+    import gc
+
+    from rcl.parser import _parser
+
+    shapes = [
+        ("realistic (routines, loops, SOLVE)", program(100_000), False),
+        ("x := x + 1", "x := 0\n" + "x := x + 1\n" * 100_000, False),
+        ("ELSIF arms", "x := 0\nIF x = 0 THEN x := 1\n"
+         + "".join(f"ELSIF x = {i} THEN x := {i + 1}\n" for i in range(1, 100_000)) + "END\n", False),
+        ("CONSTs each naming the next (10,000)",  # every one an error: a CONST is used before it is made
+         "".join(f"CONST C{i} = C{i + 1} + 1\n" for i in range(10_000)) + "CONST C10000 = 1\n", True),
+    ]
+    print(f"\n{'program':<38} {'lines':>8} {'tokens':>9} {'parse':>8} {'check':>8} {'us/line':>8} {'us/token':>9}")
+    for name, source, errors_expected in shapes:
+        lines = source.count("\n")
+        tokens = sum(1 for _ in _parser().lex(source))
+        gc.disable()  # as Session does while parsing and checking
+        try:
+            t0 = time.perf_counter()
+            modules = [parse(source, "big.rcl")]
+            t1 = time.perf_counter()
+            diagnostics = Checker(Session()._scope.fork()).check(modules)
+            t2 = time.perf_counter()
+        finally:
+            gc.enable()
+        assert bool(diagnostics) == errors_expected, diagnostics[:3]
+        total = t2 - t0
+        print(f"{name:<38} {lines:>8,} {tokens:>9,} {t1 - t0:>7.2f}s {t2 - t1:>7.2f}s {1e6 * total / lines:>8.0f} "
+              f"{1e6 * total / tokens:>9.1f}")
+
+
 def startup() -> float:
     with tempfile.TemporaryDirectory() as d:
         p = Path(d) / "one.rcl"
@@ -155,6 +190,8 @@ def main() -> None:
     print("-" * (width + 70))
     for name, t, ref, target in rows:
         print(f"{name:<{width}}  {t:>7.3f}s  {target:>8}  {ref}")
+    if "--large" in sys.argv[1:]:
+        large_programs()
 
 
 if __name__ == "__main__":
