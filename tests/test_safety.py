@@ -293,6 +293,7 @@ def test_the_pulse_sent_to_a_servo_says_the_angle_asked_for():
     ("[tray]\nwires = " + "[" * 5000 + "]" * 5000 + "\n", "nested too deep for a cell file"),
     ("[camera]\npx_per_mm = 1e300\n", "camera.px_per_mm must be 0 (from the width and fov) or 0.5 to 100"),
     ("[bath]\nseconds = -1\n", "bath.seconds must be 0 to 3600"),
+    ("[camera]\nwidth = 4096\n", "camera.width must be 64 to 2048, not 4096"),  # 2 GB a look
 ])
 def test_a_cell_file_with_a_number_out_of_range_is_refused_when_loaded(tmp_path, text, message):
     from rcl.cell import CellConfigError, load_config
