@@ -79,6 +79,7 @@ TIP_START_MM = 10.0  # the search for the tip starts this far in along the centr
 END_FIT_MM = 8.0  # the end's direction is fitted over this much of the centre line
 END_SKIP_MM = 1.0  # ... less its first mm, where a ridge's end may hook
 TIP_BOW_PX = 0.3  # ... along a parabola where it bows this far from its chord, else along the chord
+BRIDGE_MM = 0.6  # across a wire, a break in its contrast narrower than this is no edge (a specular line)
 TANGENT_MM = 2.5  # the tangent at the grasp point: over this much either side
 BOARD_FLOOR = 4.0  # contrast (spreads) below which a pixel may be bare board, whatever the wire
 TIP_SHARE = 0.5  # the tip: where the contrast falls below half the wire's (a blurred edge's middle; a shadow is fainter)
@@ -903,6 +904,8 @@ class _EndReader:
     def width(self, line: np.ndarray, board: float) -> float:
         """The wire's width (working px): across it at five places, how far its contrast stands
         above the board (and above 0.4 of its peak) without a break, the median."""
+        from scipy import ndimage
+
         if len(line) < 8:
             return 2.0
         idx = np.linspace(len(line) // 4, len(line) - 2, 5).astype(int)
@@ -915,7 +918,10 @@ class _EndReader:
         mid = len(offs) // 2
         peak = prof[:, mid - 4:mid + 5].max(axis=1, keepdims=True)
         above = prof >= np.maximum(0.4 * peak, board)
-        above[:, 1:-1] |= above[:, :-2] & above[:, 2:]  # a specular line or a grain is no edge
+        # a break narrower than BRIDGE_MM is no edge: the specular line along a glossy wire (it may
+        # be as light as the board), or a grain
+        bridge = np.ones((1, int(round(BRIDGE_MM * self.wppm / 0.5)) + 1), bool)
+        above = ndimage.binary_closing(above, structure=bridge)
         widths = []
         for row in above:
             near = np.flatnonzero(row[mid - 3:mid + 4])
