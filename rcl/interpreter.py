@@ -551,6 +551,8 @@ class Compiler:
             stack.append(entry)
             try:
                 status = body(new)
+            except RecursionError:  # deep calls within deeply nested blocks: Python's stack is spent
+                raise make("the program nests too deeply to run: calls within deeply nested blocks", span) from None
             finally:
                 stack.pop()
                 ctx.live_elements -= elements

@@ -168,6 +168,17 @@ def test_nesting_just_within_the_limit_runs_and_the_cli_never_crashes(tmp_path):
     assert r.returncode == 2 and "deep.rcl:2001:1: error: the program nests too deeply" in r.stderr
 
 
+def test_recursion_through_deeply_nested_blocks_is_an_error_try_catches():
+    """Each call within 1,900 nested IFs takes thousands of Python frames: Python's stack is spent
+    long before the 1,000-call limit. That is an RCL error at the call, not a crash, and TRY catches it."""
+    body = nested("IF TRUE THEN\n", "END\n", 1_900, inner="IF d < 1000 THEN x := F(d + 1) END")
+    program = ("FUNCTION F(d : INTEGER) : INTEGER\n" + body + "RETURN d\nEND\n"
+               "TRY\n  WRITELN(F(1))\nEXCEPT\n  WRITELN('caught: ', ERRMSG())\nEND\n")
+    out = io.StringIO()
+    Session(out=out).run(program, "deep.rcl")
+    assert out.getvalue() == "caught: the program nests too deeply to run: calls within deeply nested blocks\n"
+
+
 def test_a_camera_model_file_nested_deep_is_refused_not_a_crash(tmp_path):
     (tmp_path / "deep.json").write_text('{"format": "rcl-camera-model", "fit": ' + "[" * 70_000 + "]" * 70_000 + "}")
     with pytest.raises(RclRuntimeError, match="nested 70001 deep: not a camera-model file"):
