@@ -6,6 +6,8 @@ line and a caret under the column.
 """
 from __future__ import annotations
 
+import itertools
+
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Optional
@@ -97,8 +99,12 @@ class RclRuntimeError(RclError):
         text = d.render() if d else f"error: {self.message}"
         if self.stack:
             lines = ["RCL call stack (most recent call first):"]
-            for e in reversed(self.stack):
-                lines.append(f"  {e.routine}, called at {e.filename}:{e.span.line}:{e.span.col}")
+            calls = [f"  {e.routine}, called at {e.filename}:{e.span.line}:{e.span.col}" for e in reversed(self.stack)]
+            for line, same in itertools.groupby(calls):  # a recursion's calls, folded as Python folds them
+                lines.append(line)
+                more = sum(1 for _ in same) - 1
+                if more:
+                    lines.append(f"  [the call above {more} more time{'s' if more > 1 else ''}]")
             text += "\n" + "\n".join(lines)
         return text
 

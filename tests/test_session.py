@@ -121,6 +121,19 @@ def test_runtime_error_halts_the_robot_and_reports_the_rcl_stack():
     assert text.startswith("task.rcl:3:") and "P, called at task.rcl:6:1" in text
 
 
+def test_a_recursions_call_stack_is_folded():
+    s = Session(out=io.StringIO())
+    with pytest.raises(RclRuntimeError) as e:
+        s.run("PROCEDURE P(n : INTEGER)\n  P(n + 1)\nEND\nP(1)\n", "rec.rcl")
+    assert len(e.value.stack) == 1000
+    assert e.value.render().splitlines()[3:] == [
+        "RCL call stack (most recent call first):",
+        "  P, called at rec.rcl:2:3",
+        "  [the call above 998 more times]",
+        "  P, called at rec.rcl:4:1",
+    ]
+
+
 def test_cancel_from_another_thread_stops_a_loop_and_halts():
     robot = RecordingArm()
     s = Session(robot=robot, out=io.StringIO())
