@@ -17,6 +17,7 @@ import difflib
 from typing import Callable, Optional
 
 from . import ast as A
+from . import foreign
 from . import types as T
 from .constants import NotConstant, fold
 from .errors import Diagnostic, source_line
@@ -677,7 +678,7 @@ class Checker:
         if target is None:
             for a in e.args:
                 self.expr(a)
-            hint = self._suggest(key, self._routine_names)
+            hint = foreign.hint(key) or self._suggest(key, self._routine_names)
             self.error(e.callee.span, f"unknown routine {e.callee.text}{hint}")
             return T.ANY
         e.symbol = target

@@ -9,7 +9,7 @@ from __future__ import annotations
 import os
 from functools import cache, lru_cache
 from pathlib import Path
-from typing import Iterator
+from typing import Optional, Iterator
 
 import lark
 from lark import Token, Transformer
@@ -356,6 +356,30 @@ def _expected_text(expected) -> str:
     return words[0] if len(words) == 1 else "one of " + ", ".join(words)
 
 
+_OPERATORS = {"PLUS", "MINUS", "STAR", "SLASH", "DIV", "MOD", "AND", "OR", "NE", "LT", "LE", "GT", "GE"}
+
+
+def _terminal_named(text: str) -> str:
+    """The grammar's name for an anonymous terminal such as ':='."""
+    return next((t.name for t in _parser().terminals if t.pattern.value == text), text)
+
+
+def _unclosed(source: str, at: Token) -> Optional[Token]:
+    """The innermost '(' or '[' still open where the token `at` stands, if any."""
+    stack: list[Token] = []
+    try:
+        for tok in _parser().lex(source):
+            if tok.start_pos >= at.start_pos:
+                break
+            if tok.type in ("LPAR", "LSQB"):
+                stack.append(tok)
+            elif tok.type in ("RPAR", "RSQB") and stack:
+                stack.pop()
+    except UnexpectedInput:
+        return None
+    return stack[-1] if stack else None
+
+
 def _syntax_diagnostic(e: UnexpectedInput, source: str, filename: str) -> Diagnostic:
     if isinstance(e, UnexpectedCharacters):
         line, col = e.line, e.column
@@ -376,8 +400,20 @@ def _syntax_diagnostic(e: UnexpectedInput, source: str, filename: str) -> Diagno
         what = "RETURN" if tok.type == "RETURN_BARE" else repr(str(tok))
         expected = _expected_text(e.expected)
         message = f"unexpected {what}" + (f"; expected {expected}" if expected else "")
+        after_target = _terminal_named(":=") in e.expected  # a statement so far: a name, a field, a call
+        opener = _unclosed(source, tok) if {"RPAR", "RSQB"} & set(e.expected) else None
+        if opener is not None:  # what is still open, not what a merged parser state also allows
+            expected = "')'" if opener.type == "LPAR" else "']'"
+            message = f"unexpected {what}; expected {expected}"
         if tok.start_pos is not None and source.startswith("(*", tok.start_pos):
             message = "unterminated comment: (* has no matching *)"
+        elif after_target and tok.type == "EQ":
+            message = "unexpected '='; ':=' assigns (x := 3), '=' compares"
+        elif after_target and tok.type in _OPERATORS:
+            message = (f"unexpected {what}: an expression on its own is not a statement; assign it (x := ...) "
+                       f"or show it (WRITELN(...))")
+        elif opener is not None and opener.line < tok.line:
+            message += f": the {str(opener)!r} at {opener.line}:{opener.column} is still open"
     else:
         lines = list(source_lines(source))
         while len(lines) > 1 and not lines[-1].strip():  # the end of file: after the last text

@@ -139,7 +139,7 @@ class Session:
             module = Module(filename, text, Block([], span=expr.span))
             t, diagnostics = Checker(scope).check_expression(expr, module)
         if diagnostics:
-            raise RclStaticError(diagnostics)
+            raise RclStaticError([_assignment_hint(expr, d) for d in diagnostics])
         return expr, t, scope, module
 
     def _find_wire(self, image, method: str):
@@ -324,6 +324,17 @@ def _deep_recursion():
         yield
     finally:
         sys.setrecursionlimit(old)
+
+
+def _assignment_hint(expr, d: Diagnostic) -> Diagnostic:
+    """`x = 5` typed as a statement, read as a comparison of an unknown x: say that := assigns."""
+    from .ast import BinOp, Name
+
+    if (isinstance(expr, BinOp) and expr.op == "=" and isinstance(expr.left, Name)
+            and d.span == expr.left.span and d.message.startswith("unknown name")):
+        message = f"unknown name {expr.left.ident.text}; to assign, write {expr.left.ident.text} := ..."
+        return Diagnostic(d.filename, d.span, message, d.source_line)
+    return d
 
 
 @contextlib.contextmanager

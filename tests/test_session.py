@@ -121,6 +121,15 @@ def test_runtime_error_halts_the_robot_and_reports_the_rcl_stack():
     assert text.startswith("task.rcl:3:") and "P, called at task.rcl:6:1" in text
 
 
+def test_an_equals_sign_meant_as_assignment_is_answered_with_how_to_assign():
+    s = Session(out=io.StringIO())
+    with pytest.raises(RclStaticError) as e:
+        s.evaluate("x = 5")  # the REPL reads a line that is no statement as an expression
+    assert e.value.diagnostics[0].message == "unknown name x; to assign, write x := ..."
+    s.run("x := 5")
+    assert s.evaluate("x = 5") == (True, "BOOLEAN")  # a known x: a comparison, as written
+
+
 def test_a_recursions_call_stack_is_folded():
     s = Session(out=io.StringIO())
     with pytest.raises(RclRuntimeError) as e:
