@@ -44,9 +44,11 @@ def test_runtime_error_exit_1_with_rcl_call_stack(write):
 def test_check_exit_codes(write):
     good = write("good.rcl", "x := 1\n")
     bad = write("bad.rcl", "x := \n")
-    assert rcl("check", str(good)).returncode == 0
+    r = rcl("check", str(good))
+    assert r.returncode == 0 and r.stdout == f"{good}: no errors (1 line and their imports: syntax, names, types, " \
+                                             "frame rules and references checked)\n"
     r = rcl("check", str(good), str(bad))
-    assert r.returncode == 2 and "bad.rcl:" in r.stderr
+    assert r.returncode == 2 and "bad.rcl:" in r.stderr and "bad.rcl: no errors" not in r.stdout
     assert rcl("check", *map(str, sorted((ROOT / "examples").glob("*.rcl"))),
                *map(str, sorted((ROOT / "stdlib").glob("*.rcl")))).returncode == 0
 
