@@ -10,6 +10,7 @@ Only this module and the REPL print diagnostics.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
 import os
 import signal
@@ -21,6 +22,7 @@ from . import __version__
 from .errors import RclCancelled, RclRuntimeError, RclStaticError
 
 EXIT_OK, EXIT_RUNTIME, EXIT_STATIC, EXIT_INTERRUPTED = 0, 1, 2, 130
+CTRL_C_GRACE_S = 0.5  # after Ctrl-C, how long a program has to reach a statement where it can stop
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
@@ -234,14 +236,46 @@ def _repl(args) -> int:
     return _with_setup(args, body)
 
 
+@contextlib.contextmanager
+def _ctrl_c_stops_at_a_statement(session):
+    """The first Ctrl-C asks the program to stop at its next loop iteration or call, where the
+    message can say FILE:LINE:COL and the call stack; if it has not stopped within
+    CTRL_C_GRACE_S (a long motion, a look), Python's KeyboardInterrupt follows, as does a second
+    Ctrl-C at once. Where SIGINT is ignored (a background job), it stays ignored."""
+    import _thread
+    import threading
+
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGINT) is not signal.default_int_handler):
+        yield
+        return
+    timers = []
+
+    def first(signum, frame):
+        session.cancel("interrupted (Ctrl-C)", by_user=True)
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        timers.append(threading.Timer(CTRL_C_GRACE_S, _thread.interrupt_main))
+        timers[-1].daemon = True
+        timers[-1].start()
+
+    signal.signal(signal.SIGINT, first)
+    try:
+        yield
+    finally:
+        for t in timers:
+            t.cancel()
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+
+
 def _run_session(session, args, source: Optional[str] = None) -> int:
     from .session import FileNotReadable, RclInternalError
 
     try:
-        if source is None:
-            session.run_file(args.file)
-        else:
-            session.run(source, args.file)
+        with _ctrl_c_stops_at_a_statement(session):
+            if source is None:
+                session.run_file(args.file)
+            else:
+                session.run(source, args.file)
     except FileNotReadable as e:
         return _fail(f"rcl: error: {e}", EXIT_STATIC)
     except RclStaticError as e:

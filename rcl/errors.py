@@ -97,36 +97,43 @@ class RclRuntimeError(RclError):
     def render(self) -> str:
         d = self.diagnostic
         text = d.render() if d else f"error: {self.message}"
-        if self.stack:
-            lines = ["RCL call stack (most recent call first):"]
-            calls = [f"  {e.routine}, called at {e.filename}:{e.span.line}:{e.span.col}" for e in reversed(self.stack)]
-            for line, same in itertools.groupby(calls):  # a recursion's calls, folded as Python folds them
-                lines.append(line)
-                more = sum(1 for _ in same) - 1
-                if more:
-                    lines.append(f"  [the call above {more} more time{'s' if more > 1 else ''}]")
-            text += "\n" + "\n".join(lines)
-        return text
+        return text + render_stack(self.stack)
 
     def __str__(self) -> str:
         return self.render()
+
+
+def render_stack(stack: tuple[StackEntry, ...]) -> str:
+    """The RCL call stack, most recent call first, after a newline ('' for none)."""
+    if not stack:
+        return ""
+    lines = ["RCL call stack (most recent call first):"]
+    calls = [f"  {e.routine}, called at {e.filename}:{e.span.line}:{e.span.col}" for e in reversed(stack)]
+    for line, same in itertools.groupby(calls):  # a recursion's calls, folded as Python folds them
+        lines.append(line)
+        more = sum(1 for _ in same) - 1
+        if more:
+            lines.append(f"  [the call above {more} more time{'s' if more > 1 else ''}]")
+    return "\n" + "\n".join(lines)
 
 
 class RclCancelled(RclError):
     """The program was stopped from outside (cancel(), Ctrl-C or the step budget); the robot is halted."""
 
     def __init__(self, reason: str, filename: str = "", span: Optional[Span] = None,
-                 by_user: bool = False) -> None:
+                 by_user: bool = False, stack: tuple[StackEntry, ...] = ()) -> None:
         super().__init__(reason)
         self.reason = reason
         self.filename = filename
         self.span = span
         self.by_user = by_user  # Ctrl-C, as opposed to cancel() or the step budget
+        self.stack = stack
 
     def render(self) -> str:
         if self.span is None:
             return f"stopped: {self.reason}"
-        return f"{self.filename}:{self.span.line}:{self.span.col}: error: stopped: {self.reason}"
+        return (f"{self.filename}:{self.span.line}:{self.span.col}: error: stopped: {self.reason}"
+                + render_stack(self.stack))
 
 
 class BuiltinError(Exception):

@@ -84,9 +84,10 @@ class Context:
     def interrupt(self, filename: str, span: A.Span) -> None:
         """Called when the step counter passes its limit."""
         if self.cancel_reason is not None:
-            raise RclCancelled(self.cancel_reason, filename, span, by_user=self.cancel_by_user)
+            raise RclCancelled(self.cancel_reason, filename, span, by_user=self.cancel_by_user,
+                               stack=tuple(self.stack))
         raise RclCancelled(f"the step budget of {self.budget} loop iterations and calls is spent",
-                           filename, span)
+                           filename, span, stack=tuple(self.stack))
 
 
 class Compiler:

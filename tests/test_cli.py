@@ -96,6 +96,7 @@ def test_ctrl_c_stops_a_run_cleanly_with_exit_130(write):
         raise AssertionError("rcl run did not stop on Ctrl-C; where it was:\n" + err) from None
     assert proc.returncode == 130
     assert "interrupted" in err and "robot was halted" in err and "Traceback" not in err
+    assert f"{p}:2:" in err and "error: stopped: interrupted (Ctrl-C)" in err  # where the program was
 
 
 def test_console_script_and_module_are_the_same_command(write):
