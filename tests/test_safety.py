@@ -68,6 +68,16 @@ def test_inside_the_folder_and_the_data_folders_files_are_read_and_written(place
     assert (place / "outside" / "w.json").is_file()
 
 
+def test_filepath_names_where_a_file_name_leads_and_refuses_the_same_names(place):
+    prog, data = place / "prog", place / "data"
+    assert run_program(prog, "a := FILEPATH('m.json')")["a"] == str(prog / "m.json")
+    assert run_program(prog, "a := FILEPATH('w.json')", data=[data])["a"] == str(data / "w.json")  # data first
+    for name in ("out/secret.json", "/etc/passwd"):  # a symlink out, an absolute path
+        s = run_program(prog, f"TRY\n  a := FILEPATH('{name}')\nEXCEPT\n  a := ERRMSG()\nEND")
+        assert s["a"] == (f"FILEPATH: '{name}' is outside the folders a program may read: the program's folder "
+                          f"and the standard library")
+
+
 def test_devices_pipes_folders_and_huge_files_are_not_read(place):
     prog = place / "prog"
     os.mkfifo(prog / "pipe.json")  # opening it to read would block for ever

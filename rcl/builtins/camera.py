@@ -71,6 +71,11 @@ def savewarp(ctx, path: str) -> None:
     _call("SAVEWARP", model.save, _file(ctx, "SAVEWARP", path, writing=True))
 
 
+def filepath(ctx, path: str) -> str:
+    """FILEPATH(name): the full path a file name stands for, where LOADWARP reads it and SAVEWARP writes it."""
+    return str(_file(ctx, "FILEPATH", path))
+
+
 def warp(ctx, u: float, v: float) -> Vector:
     """WARP(u, v): the tray-plane point (mm) seen at image point (u, v) px."""
     x, y, z = _call("WARP", _model(ctx, "WARP").warp, u, v)
@@ -89,5 +94,5 @@ def findmark(ctx, u: Var[float], v: Var[float]) -> bool:
 
 BUILTINS = {
     "CALPOINT": calpoint, "FITWARP": fitwarp, "LOADWARP": loadwarp, "SAVEWARP": savewarp,
-    "WARP": warp, "FINDMARK": findmark,
+    "WARP": warp, "FINDMARK": findmark, "FILEPATH": filepath,
 }
