@@ -69,15 +69,22 @@ def test_stdlib_passes_the_checker(path: Path):
     assert Session(cell=Cell(open_cell().config, None, None, None)).check_file(path) == []
 
 
-def test_the_pick_example_moves_through_the_solved_frames():
-    s = Session(out=io.StringIO())
+def test_the_pick_example_moves_through_the_solved_frames_and_says_what_came_of_it():
+    s, out = cell_session(seed=3, wires=(3, 3))  # no wire lies at the typed-in ends, and the example says so
     s.run_file(ROOT / "examples" / "pick.rcl")
+    assert [e.what for e in s.cell.sim.events if not e.ok] == ["pick"] * 3
+    assert out.getvalue().splitlines() == [
+        "wire 1 at (300, -40, 0): the fingers closed on nothing (no wire lies just there)",
+        "wire 2 at (320, 10, 0): the fingers closed on nothing (no wire lies just there)",
+        "wire 3 at (300, 50, 0): the fingers closed on nothing (no wire lies just there)",
+        "0 of 3 wires crimped",
+    ]
     moves = [e for e in s.robot.log if e[0] in ("move", "moves")]
-    assert len(moves) == 3 * 4
+    assert len(moves) == 3 * 3  # above, down, up: nothing held, so not on to the press
     # the last grasp (Z^ is the identity): the fingers, E^ beyond T5, are on the wire
     # 15 mm from its end, pointing straight down into the tray
     w = s["W^"].matrix
-    fingers = moves[-3][1] @ s["E^"].matrix
+    fingers = moves[-2][1] @ s["E^"].matrix
     np.testing.assert_allclose(fingers[:3, 3], w[:3, 3] + 15 * w[:3, 2], atol=1e-9)
     np.testing.assert_allclose(fingers[:3, 2], [0, 0, -1], atol=1e-12)
     assert abs(fingers[:3, 1] @ w[:3, 2]) < 1e-12  # the fingers close across the wire
