@@ -125,8 +125,7 @@ def main() -> None:
         errors = sum(1 for r in rs if r["error"])
         off = [m for r in rs for m in r["pick_off_mm"]]
         print(f"| {way[0]} | {total} | {100 * first / total:.1f} % | {100 * done / total:.1f} % | "
-              f"{attempts / max(done, 1):.2f} | {statistics.median(off):.2f} ({np.percentile(off, 90):.2f}) | "
-              f"{statistics.median(ms):.1f} ({np.percentile(ms, 90):.1f}) | "
+              f"{attempts / max(done, 1):.2f} | {_median_p90(off, '.2f')} | {_median_p90(ms, '.1f')} | "
               f"{robot / total:.1f} | {errors} |")
         why_by_way[way[0]] = collections.Counter(_kind(f) for r in rs for f in r["failures"]
                                               if f["what"] != "release")  # a release only repeats why
@@ -136,6 +135,13 @@ def main() -> None:
     for way, counts in why_by_way.items():
         parts = ", ".join(f"{what} {n}" for what, n in counts.most_common() if n)
         print(f"{way}: {parts or 'no failures'}")
+
+
+def _median_p90(values: list, fmt: str) -> str:
+    """'median (p90)', or '-' when there is nothing to measure (no pick, no look)."""
+    if not values:
+        return "-"
+    return f"{statistics.median(values):{fmt}} ({np.percentile(values, 90):{fmt}})"
 
 
 def _kind(f: dict) -> str:
