@@ -36,6 +36,66 @@ COMMANDS = {
     ":quit": ":quit          leave (as Ctrl-D does)",
 }
 _WORD = re.compile(r"[A-Za-z][A-Za-z0-9_]*\^?$")
+# what newcomers type to get help or to leave, taken so when no RCL name of theirs is spelt so
+PLAIN_WORDS = {"help": ":help", "help()": ":help", "exit": ":quit", "exit()": ":quit", "quit": ":quit",
+               "quit()": ":quit"}
+
+
+def doc_comment(source: str, line: int) -> str:
+    """The { ... } comment that opens a routine's body (the line after its header), if any."""
+    from .errors import source_lines
+
+    lines = list(source_lines(source))[line:]
+    if not lines or not lines[0].lstrip().startswith("{"):
+        return ""
+    text = []
+    for ln in lines:
+        text.append(ln.strip())
+        if "}" in ln:
+            break
+    return "\n".join(text).lstrip("{").rsplit("}", 1)[0].strip()
+
+
+def reference(word: str) -> str:
+    """What docs/language.md (shipped with the package) says of a keyword: the lines of its
+    shortest example block that start with it, the paragraph on it (or the one after the block),
+    under the section's title; else the first line that names it."""
+    from .resources import docs_dir
+
+    try:
+        text = (docs_dir() / "language.md").read_text(encoding="utf-8")
+    except OSError:
+        return ""
+    blocks, section = [], ""
+    for block in re.split(r"\n\s*\n", text):
+        if block.startswith("## "):
+            section = block.splitlines()[0][3:]
+        blocks.append((section, block))
+    starts = re.compile(rf"^\s*{re.escape(word)}\b", re.MULTILINE)
+    found = [i for i, (_, b) in enumerate(blocks) if b.startswith("    ") and starts.search(b)]
+    if not found:
+        named = re.compile(rf"`{re.escape(word)}\b")
+        for title, block in blocks:
+            for line in block.splitlines():
+                if named.search(line):
+                    return f"docs/language.md, {title}:\n{line.strip()}"
+        return ""
+    i = min(found, key=lambda k: len(blocks[k][1].splitlines()))
+    title, block = blocks[i]
+    lines = block.splitlines()
+    shown = ["\n".join(ln for ln in lines if starts.match(ln)) if len(lines) > 3 else block]
+    about = [b for t, b in blocks if t == title and b.startswith(f"`{word}")]
+    if about:
+        shown.append(about[0])
+    elif i + 1 < len(blocks) and not blocks[i + 1][1].startswith(("    ", "#")):
+        shown.append(blocks[i + 1][1])
+    return f"docs/language.md, {title}:\n" + "\n\n".join(shown)
+
+
+def banner() -> str:
+    from . import __version__
+
+    return f"RCL {__version__}: type statements or an expression; :help for help; Ctrl-D or quit to leave"
 
 
 class Repl:
@@ -62,6 +122,9 @@ class Repl:
         stripped = text.strip()
         if not stripped:
             return True
+        word = PLAIN_WORDS.get(stripped.lower())
+        if word is not None and stripped.rstrip("()").lower() not in self._user_names():
+            return self.command(word)
         if stripped.startswith(":"):
             return self.command(stripped)
         try:
@@ -174,10 +237,17 @@ class Repl:
             params = "; ".join(("VAR " if p.by_ref else "") + f"{p.name} : {p.type}" for p in routine.params)
             kind = "FUNCTION" if routine.is_function else "PROCEDURE"
             result = f" : {routine.result}" if routine.is_function else ""
-            return f"{kind} {routine.name}({params}){result}  (defined in {routine.module.filename})"
+            head = f"{kind} {routine.name}({params}){result}  (defined in {routine.module.filename})"
+            doc = doc_comment(routine.module.source, routine.decl.span.line)
+            return f"{head}\n{doc}" if doc else head
         if name.upper() in keywords():
-            return f"{name.upper()} is a keyword; see docs/language.md"
+            return reference(name.upper()) or f"{name.upper()} is a keyword; see docs/language.md"
         return f"no help for {name}"
+
+    def _user_names(self) -> set[str]:
+        """The variables and routines of this session, lower case."""
+        names = {n.lower() for n in self.session.variables()}
+        return names | {r.name.lower() for r in self.session._scope.routines.values()}
 
     def variables(self) -> list[str]:
         lines = []
@@ -231,6 +301,7 @@ class Repl:
         prompt = PromptSession(multiline=True, key_bindings=keys, lexer=PygmentsLexer(RclLexer),
                                completer=RclCompleter(), history=history, input=input, output=output,
                                prompt_continuation=lambda width, line, soft: CONTINUATION)
+        self.say(banner())
         while True:
             ahead, self.typeahead = self.typeahead, ""
             if "\n" in ahead:  # a whole line typed while the last statement ran: run it now

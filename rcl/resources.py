@@ -21,5 +21,10 @@ def grammar_path() -> Path:
     return _data_dir("grammar") / "rcl.lark"
 
 
+def docs_dir() -> Path:
+    """The project's docs (the language reference for the REPL's :help)."""
+    return _data_dir("docs")
+
+
 def stdlib_dir() -> Path:
     return _data_dir("stdlib")

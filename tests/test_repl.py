@@ -13,7 +13,7 @@ from prompt_toolkit.output import DummyOutput
 
 from conftest import ROOT
 from rcl import Session
-from rcl.repl import Repl
+from rcl.repl import Repl, banner
 from rcl.robots import RecordingArm
 
 
@@ -33,7 +33,9 @@ def drive(text: str, repl: Repl | None = None, during=None) -> str:
         if during:
             during()
         assert repl.loop(input=pipe, output=DummyOutput()) == 0
-    return out.getvalue()
+    first, _, rest = out.getvalue().partition("\n")
+    assert first == banner()  # every session starts by saying how to get help and how to leave
+    return rest
 
 
 def test_statements_and_bare_expressions():
@@ -70,7 +72,7 @@ def test_commands(tmp_path):
     assert "FUNCTION TWICE(n : INTEGER) : INTEGER" in out
     assert "loaded : BOOLEAN = TRUE" in out
     assert "a new session" in out and "no variables yet" in out
-    assert "unknown command :bogus" in out and "IF is a keyword" in out
+    assert "unknown command :bogus" in out and "docs/language.md, 5. Statements:\n    IF c THEN ... ELSIF" in out
 
 
 def test_completion_of_keywords_builtins_and_variables():
@@ -127,3 +129,19 @@ def test_piped_input_runs_as_a_script():
     assert (r.returncode, r.stdout) == (0, "42\n")
     r = rcl("repl", input="WRITELN(1 DIV 0)\n")
     assert r.returncode == 1 and "<stdin>:1:" in r.stderr
+
+
+def test_help_exit_and_quit_do_what_a_newcomer_expects():
+    out = drive("help\rx := 1\rquit\rWRITELN('not reached')\r")
+    assert out.startswith("Type RCL statements or an expression") and "not reached" not in out
+    for word in ("exit", "quit()", "EXIT()"):
+        assert drive(f"{word}\rWRITELN('not reached')\r") == ""
+    # a name of the user's own spelt so is theirs
+    assert drive("quit := 7\rquit\rhelp\r").splitlines()[0] == "7"
+
+
+def test_help_on_a_keyword_quotes_the_reference_and_on_a_routine_its_doc_comment():
+    out = drive(":help SOLVE\rIMPORT 'frames'\r:help approach^\r")
+    assert "docs/language.md, 7. Transform equations:" in out and "The unknown must\noccur exactly once" in out
+    assert ("FUNCTION APPROACH^(F^ : FRAME; d : REAL) : FRAME  (defined in stdlib/frames.rcl)\n"
+            "F^ moved d mm back along its own approach (Z) axis: where the tool waits before going in.") in out
