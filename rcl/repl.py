@@ -131,7 +131,7 @@ class Repl:
             try:
                 parse_expression(stripped, "<stdin>")
             except RclStaticError:
-                self.interruptible(lambda: self.session.run(text, "<stdin>"))
+                self.interruptible(lambda: self.session.run(text, "<stdin>", forget_on_error=True))
                 return True
             value, rcl_type = self.interruptible(lambda: self.session.evaluate(stripped, "<stdin>"))
             if rcl_type is not None:

@@ -98,9 +98,12 @@ class Session:
 
     # Running ---------------------------------------------------------------
 
-    def run(self, source: str, filename: str = "<string>") -> None:
-        """Check and run RCL source text (IMPORTs are found from the current folder)."""
-        self._run(source, filename, "", Path.cwd())
+    def run(self, source: str, filename: str = "<string>", *, forget_on_error: bool = False) -> None:
+        """Check and run RCL source text (IMPORTs are found from the current folder). With
+        forget_on_error (the REPL's rule), a run that fails declares nothing: the variables,
+        routines and imports it brought are forgotten, as if it had not been typed (values it
+        gave to variables declared before stay)."""
+        self._run(source, filename, "", Path.cwd(), forget_on_error)
 
     def run_file(self, path: str | Path) -> None:
         """Check and run an .rcl file."""
@@ -235,10 +238,13 @@ class Session:
             diagnostics = Checker(scope).check(modules)
         return modules, diagnostics, scope
 
-    def _run(self, source: str, filename: str, key: str, base: Path) -> None:
+    def _run(self, source: str, filename: str, key: str, base: Path, forget_on_error: bool = False) -> None:
         modules, diagnostics, scope = self._check(source, filename, key, base)
         if diagnostics:
             raise RclStaticError(diagnostics)
+        before = (self._scope, len(self._values), set(self._ran))
+        # a routine defined again is updated in place (callers compiled earlier hold it): no going back
+        redefines = any(self._scope.routines.get(k, r) is not r for k, r in scope.routines.items())
         self._adopt(scope, modules)
 
         def main():
@@ -246,7 +252,13 @@ class Session:
             if key:
                 self._ran.add(key)
             code()
-        self._execute(main, filename, source)
+        try:
+            self._execute(main, filename, source)
+        except (RclRuntimeError, RclCancelled):
+            if forget_on_error and not redefines:
+                self._scope, self._ran = before[0], before[2]
+                del self._values[before[1]:]
+            raise
 
     def _execute(self, action: Callable[[], Any], filename: str, source: str) -> Any:
         """Run compiled code with the robot halted on any error."""

@@ -145,3 +145,12 @@ def test_help_on_a_keyword_quotes_the_reference_and_on_a_routine_its_doc_comment
     assert "docs/language.md, 7. Transform equations:" in out and "The unknown must\noccur exactly once" in out
     assert ("FUNCTION APPROACH^(F^ : FRAME; d : REAL) : FRAME  (defined in stdlib/frames.rcl)\n"
             "F^ moved d mm back along its own approach (Z) axis: where the tool waits before going in.") in out
+
+
+def test_a_failed_input_declares_nothing():
+    out = drive("x := 1\ry := 10 / 0\r:vars\ry := 'text'\ry\rx := 5; z := 1 DIV 0\rx\r")
+    lines = out.splitlines()
+    assert "error: division by zero" in lines[0]
+    assert lines[3] == "x : INTEGER = 1"  # y, whose assignment failed, is not there
+    assert lines[4] == "text"  # so y may be a STRING now
+    assert lines[-1] == "5"  # what a failed input did to a variable it did not declare stays
