@@ -228,10 +228,13 @@ def _run(args) -> int:
 
 def _repl(args) -> int:
     def body(cell, new_session) -> int:
-        if not sys.stdin.isatty():
-            return _run_session(new_session(), args, sys.stdin.read())  # piped input runs as a script
         from .repl import Repl
 
+        if not sys.stdin.isatty():  # piped input: each line as if typed at the prompt
+            try:
+                return Repl(new_session, err=sys.stderr).replay(sys.stdin.read())
+            finally:
+                _flush()
         return Repl(new_session).loop()
     return _with_setup(args, body)
 

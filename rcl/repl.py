@@ -101,10 +101,13 @@ def banner() -> str:
 class Repl:
     """The read-eval-print logic, separate from the terminal so that tests can drive it."""
 
-    def __init__(self, new_session: Callable[[], Session], out: Optional[TextIO] = None) -> None:
+    def __init__(self, new_session: Callable[[], Session], out: Optional[TextIO] = None,
+                 err: Optional[TextIO] = None) -> None:
         self.new_session = new_session
         self.session = new_session()
         self._out = out
+        self.err = err  # where errors go; None: with the rest (the terminal)
+        self.status = 0  # the worst error so far: 2 static, 1 at run time, 130 Ctrl-C
         self.typeahead = ""  # keys typed while a statement ran, for the next prompt
 
     @property
@@ -137,15 +140,39 @@ class Repl:
             if rcl_type is not None:
                 self.say(show(value))
         except RclStaticError as e:
-            for d in e.diagnostics:
-                self.say(d.render())
+            self.failed(2, "\n".join(d.render() for d in e.diagnostics))
         except RclRuntimeError as e:
-            self.say(e.render())
+            self.failed(1, e.render())
         except RclCancelled as e:
-            self.say(f"{e.render()}\nthe robot was halted")
+            self.failed(130 if e.by_user else 1, f"{e.render()}\nthe robot was halted")
         except FileNotReadable as e:
-            self.say(f"error: {e}")
+            self.failed(2, f"error: {e}")
         return True
+
+    def failed(self, status: int, message: str) -> None:
+        """Show an input's error (on the error stream, where one is given) and remember the worst."""
+        self.status = max(self.status, status)
+        if self.err is not None:
+            self.err.write(message + "\n")
+            self.err.flush()
+        else:
+            self.say(message)
+
+    def replay(self, text: str) -> int:
+        """Piped input, taken as if typed at the prompt: each complete input in turn (a block or an
+        expression still open goes on to the next line). The exit status: 0, or the worst error's
+        (2 static, 1 at run time, 130 Ctrl-C)."""
+        pending = ""
+        for line in text.splitlines(keepends=True):
+            pending += line
+            if pending.strip().startswith(":") or not needs_more_input(pending):
+                go_on = self.handle(pending)
+                pending = ""
+                if not go_on:
+                    return self.status
+        if pending.strip():
+            self.handle(pending)  # cut short: its error says what is missing
+        return self.status
 
     def interruptible(self, action):
         """Run action in a worker thread; Ctrl-C meanwhile cancels the session's program.

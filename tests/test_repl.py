@@ -123,10 +123,15 @@ def test_a_real_terminal_session_with_pexpect(tmp_path):
     assert "x + 1" in (tmp_path / "history").read_text()
 
 
-def test_piped_input_runs_as_a_script():
+def test_piped_input_is_taken_as_typed_at_the_prompt():
     from conftest import rcl
     r = rcl(input="x := 20\nWRITELN(x * 2 + 2)\n")
     assert (r.returncode, r.stdout) == (0, "42\n")
+    r = rcl(input="x := 20\nx * 2 + 2\n:vars\nIF x > 1 THEN\n  WRITELN('big')\nEND\nz := 1 DIV 0\n:vars\nquit\nx\n")
+    assert r.stdout == "42\nx : INTEGER = 20\nbig\nx : INTEGER = 20\n"  # a transcript replays
+    assert r.returncode == 1 and "division by zero" in r.stderr
+    r = rcl(input="x := \n")
+    assert r.returncode == 2 and "unexpected end of file" in r.stderr
     r = rcl("repl", input="WRITELN(1 DIV 0)\n")
     assert r.returncode == 1 and "<stdin>:1:" in r.stderr
 
