@@ -88,3 +88,13 @@ def test_the_pick_example_moves_through_the_solved_frames_and_says_what_came_of_
     np.testing.assert_allclose(fingers[:3, 3], w[:3, 3] + 15 * w[:3, 2], atol=1e-9)
     np.testing.assert_allclose(fingers[:3, 2], [0, 0, -1], atol=1e-12)
     assert abs(fingers[:3, 1] @ w[:3, 2]) < 1e-12  # the fingers close across the wire
+
+
+def test_the_whole_task_of_the_language_reference_runs_as_printed():
+    """docs/language.md section 11, taken from the page itself, so that the page cannot drift."""
+    page = (ROOT / "docs" / "language.md").read_text()
+    section = page.split("## 11. A whole task")[1].split("\n## ")[0]
+    code = "\n".join(line[4:] for line in section.splitlines() if line.startswith("    "))
+    s, out = cell_session(seed=1, wires=(3, 3))
+    s.run(code, "task.rcl")
+    assert out.getvalue().count("crimped\n") == s.cell.sim.wires_done >= 2
