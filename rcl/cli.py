@@ -169,6 +169,10 @@ def _open_cell(args):
     from .workcell import Cell, CellSetupError, open_cell
 
     config = _config(args)
+    option = "--cell"
+    if args.model and not args.camera and args.robot == "sim" and config.simulated:
+        config.data["robot"]["model"] = args.model  # the simulated cell with that arm, if it reaches
+        args.model, option = None, "--model"
     if args.camera or args.robot != "sim" or args.model:
         try:
             camera = ImageFiles(args.camera) if args.camera else None
@@ -182,7 +186,7 @@ def _open_cell(args):
     try:
         return open_cell(config, seed=args.seed, realtime=args.realtime)
     except CellSetupError as e:
-        raise _SetupError(f"rcl: error: --cell: {e}") from None
+        raise _SetupError(f"rcl: error: {option}: {e}") from None
 
 
 def _finish(robot, args) -> None:

@@ -51,6 +51,7 @@ def open_cell(path: str | Path | CellConfig | None = None, seed: int = 0,
             sim = SimCell(config, seed=seed, wires=wires)
         except RobotError as e:
             raise CellSetupError(f"{config.source}: robot: {e}") from None
+        _check_reach(config, sim.arm.inner.model)
         sim.arm.inner.realtime = realtime
         return Cell(config, sim.arm, sim.camera, sim)
     from .camera import ImageError, ImageFiles
@@ -71,6 +72,38 @@ def open_cell(path: str | Path | CellConfig | None = None, seed: int = 0,
     except RobotError as e:
         raise CellSetupError(f"{config.source}: robot: {e}") from None
     return Cell(config, robot, camera, None)
+
+
+TRAY_MARGIN_MM, ABOVE_MM = 4.0, 30.0  # stdlib/wires.rcl: CALIBRATE's grid margin, CLEARANCE
+
+
+def _check_reach(config: CellConfig, model) -> None:
+    """Before anything moves: the arm must reach the tray's corners as the tasks go there (the
+    calibration grid's, at the tray and CLEARANCE above it, the fingers pointing down), else
+    CellSetupError names the corner and why."""
+    import numpy as np
+
+    from .frame import Frame
+    from .robots import RobotError
+    from .robots.kinematics import solve
+
+    tray = config["tray"]
+    half = float(tray["size_mm"]) / 2 - TRAY_MARGIN_MM
+    cx, cy = (float(c) for c in tray["centre"])
+    z0 = float(tray["z"])
+    base_inv, tool_inv = config.frame("Z").inv(), config.frame("E").inv()
+    q = list(model.home)
+    for dx in (-half, half):
+        for dy in (-half, half):
+            for z in (z0, z0 + ABOVE_MM):
+                fingers = Frame.trans(cx + dx, cy + dy, z) * Frame.rotx(180)
+                try:
+                    solve(model, np.asarray((base_inv * fingers * tool_inv).matrix), q)
+                except RobotError as e:
+                    raise CellSetupError(
+                        f"{config.source}: the {model.name} arm cannot reach the tray's corner "
+                        f"({cx + dx:g}, {cy + dy:g}, {z:g}) mm: {e}. This cell is laid out for another arm: "
+                        f"give a cell file laid out for {model.name} (--cell), or leave --model out") from None
 
 
 def cell_module(config: CellConfig) -> str:

@@ -252,8 +252,14 @@ def test_cli_robot_options(tmp_path):
     program.write_text("MOVE(TRANS(350, 0, 150) * ROTX(180))\nHOME\nWRITELN('ok')\n")
     r = rcl("run", str(program), "--plot", str(tmp_path / "path.png"))
     assert r.returncode == 0 and r.stdout == "ok\n" and (tmp_path / "path.png").exists()
-    r = rcl("run", str(program), "--model", "al5d")  # 389 mm from the AL5D's shoulder: it reaches 333
-    assert r.returncode == 1 and "out of reach" in r.stderr and "robot was halted" not in r.stdout
+    far = tmp_path / "far.rcl"
+    far.write_text("WRITELN('start')\nMOVE(TRANS(2000, 0, 150) * ROTX(180))\nWRITELN('no')\n")
+    r = rcl("run", str(far))
+    assert r.returncode == 1 and "out of reach" in r.stderr and r.stdout == "start\n"
+    # the built-in cell with another arm: refused before anything runs when it cannot reach the tray
+    r = rcl("run", str(program), "--model", "al5d")
+    assert r.returncode == 2 and r.stdout == ""
+    assert "--model: the built-in cell: the al5d arm cannot reach the tray's corner (290, -60, 0) mm" in r.stderr
     r = rcl("run", str(program), "--robot", "bogus")
     assert r.returncode == 2 and "unknown robot" in r.stderr
     r = rcl("run", str(program), "--model", "nosuch")
