@@ -148,8 +148,9 @@ def test_help_exit_and_quit_do_what_a_newcomer_expects():
 def test_help_on_a_keyword_quotes_the_reference_and_on_a_routine_its_doc_comment():
     out = drive(":help SOLVE\rIMPORT 'frames'\r:help approach^\r")
     assert "docs/language.md, 7. Transform equations:" in out and "The unknown must\noccur exactly once" in out
-    assert ("FUNCTION APPROACH^(F^ : FRAME; d : REAL) : FRAME  (defined in stdlib/frames.rcl)\n"
-            "F^ moved d mm back along its own approach (Z) axis: where the tool waits before going in.") in out
+    assert "FUNCTION APPROACH^(F^ : FRAME; d : REAL) : FRAME  (defined in " in out  # the installed file's path
+    assert ("frames.rcl)\nF^ moved d mm back along its own approach (Z) axis: where the tool waits before "
+            "going in.") in out
 
 
 def test_a_failed_input_declares_nothing():
