@@ -15,6 +15,7 @@ visited at z = 0 and z = 40 mm: 72 points) and a plane homography.
 from __future__ import annotations
 
 import numpy as np
+from machine import describe  # benchmarks/machine.py: the machine line of every table
 
 from rcl.camera import BicubicWarp, LinearCamera, find_mark
 from rcl.camera.simulated import PinholeCamera, render_disc
@@ -23,6 +24,7 @@ CENTRE = (350.0, 0.0)
 HALF = 90.0  # the grid spans CENTRE +- HALF mm
 MARKER_MM = 4.0
 NOISE = 0.01  # image noise, in units of the full grey range
+
 
 
 def robot_error(x, y):
@@ -80,6 +82,7 @@ def evaluate(name, predict, cal_points, held, fit_rms, condition=None):
 
 
 def main() -> None:
+    print(describe())
     rng = np.random.default_rng(2024)
     straight, camera = cameras()
     corners = np.array([[CENTRE[0] + sx * HALF, CENTRE[1] + sy * HALF] for sx in (-1, 1) for sy in (-1, 1)])

@@ -28,6 +28,7 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
+from machine import describe  # benchmarks/machine.py: the machine line of every table
 
 ROOT = Path(__file__).resolve().parent.parent
 SCRIPT = (ROOT / "examples" / "crimp.rcl").read_text()
@@ -42,6 +43,7 @@ WAYS = (
     ("default + warp, 0.5 mm fingers", "FINDWIRE", "warp", "random", 0.5),
     ("default + linear, 0.5 mm fingers", "FINDWIRE", "linear", "random", 0.5),
 )
+
 
 
 def linear_model(cell):
@@ -70,10 +72,9 @@ def linear_model(cell):
 
 def run(job: tuple[tuple, int]) -> dict:
     from rcl import Session
+    from rcl.cell import load_config
     from rcl.runreport import RunWatcher
     from rcl.workcell import open_cell
-
-    from rcl.cell import load_config
 
     (_, finder, model, look, fingers), seed = job
     config = load_config()
@@ -100,6 +101,7 @@ def run(job: tuple[tuple, int]) -> dict:
 
 
 def main() -> None:
+    print(describe())
     args = sys.argv[1:]
     trays = int(args[0]) if args else 20
     start = int(args[1]) if len(args) > 1 else 0

@@ -20,6 +20,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from machine import describe  # benchmarks/machine.py: the machine line of every table
 
 from rcl import Session
 from rcl.checker import Checker
@@ -33,6 +34,7 @@ E^ := TRANS(0, 0, 50) * ROTX(10)
 W^ := TRANS(300, 20, 0) * ROTY(180) * ROTZ(20)
 WG^ := TRANS(0, 0, -15) * ROTZ(90)
 """
+
 
 
 def best(f, repeat=3) -> float:
@@ -170,6 +172,7 @@ def startup() -> float:
 
 
 def main() -> None:
+    print(describe())
     rows = []
     loop = f"FOR i := 1 TO {N_FRAMES} DO\n  T5^ := INV(Z^)*W^*WG^*INV(E^)\nEND\n"
     t_rcl = rcl_time(SETUP, loop)

@@ -10,11 +10,13 @@ from __future__ import annotations
 import time
 
 import numpy as np
+from machine import describe  # benchmarks/machine.py: the machine line of every table
 
 from rcl.robots.kinematics import fk, load_model, solve
 
 N = 10_000
 N_NUMERICAL = 50
+
 
 
 def poses(model, n, rng):
@@ -24,6 +26,7 @@ def poses(model, n, rng):
 
 
 def main() -> None:
+    print(describe())
     print(f"{'model':<10} {'axes':>4} {'analytic us/pose':>17} {'worst error mm':>15} "
           f"{'numerical us/pose':>18}  target")
     for name in ("smartarms", "al5d", "puma560"):

@@ -37,6 +37,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from machine import describe  # benchmarks/machine.py: the machine line of every table
 
 from rcl.vision import find_wires, load
 from rcl.vision.common import principal_direction
@@ -44,6 +45,7 @@ from rcl.vision.synth import FINGER_CLEARANCE_MM, GRASP_MM, TOUCH_MM, End, Tray,
 
 SPAN_MM = GRASP_MM + 5.0
 BORDER_MM = 3.0
+
 
 
 def sets(root: Path):
@@ -252,6 +254,7 @@ def _trace(pixels: set, start, limit: int) -> list:
 
 
 def main() -> None:
+    print(describe())
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("path", type=Path)
     ap.add_argument("--methods", default="ridge,grey,binary")

@@ -21,11 +21,11 @@ from __future__ import annotations
 import argparse
 import collections
 import os
-import platform
 import time
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
+from machine import describe  # benchmarks/machine.py: the machine line of every table
 
 
 def judge_one(job):
@@ -68,6 +68,7 @@ def row(label: str, verdicts: list, errs=None, angs=None, ms=None) -> str:
 
 
 def main() -> None:
+    print(describe())
     ap = argparse.ArgumentParser()
     ap.add_argument("trays", nargs="?", type=int, default=2000)
     ap.add_argument("--seed0", type=int, default=100000)
@@ -82,7 +83,6 @@ def main() -> None:
     for m in methods:
         load(m)
     print(f"{args.trays} randomized trays, seeds {args.seed0}..{args.seed0 + args.trays - 1}; "
-          f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, numpy {np.__version__}, "
           f"{args.jobs} processes (times are per image, one core each)")
     jobs = [(args.seed0 + i, methods) for i in range(args.trays)]
     with ProcessPoolExecutor(args.jobs) as pool:
