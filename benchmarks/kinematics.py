@@ -10,7 +10,6 @@ from __future__ import annotations
 import time
 
 import numpy as np
-from machine import describe  # benchmarks/machine.py: the machine line of every table
 
 from rcl.robots.kinematics import fk, load_model, solve
 
@@ -26,6 +25,9 @@ def poses(model, n, rng):
 
 
 def main() -> None:
+    # benchmarks/machine.py, imported here as tests load some of these files as modules
+    from machine import describe
+
     print(describe())
     print(f"{'model':<10} {'axes':>4} {'analytic us/pose':>17} {'worst error mm':>15} "
           f"{'numerical us/pose':>18}  target")
