@@ -85,10 +85,19 @@ class RunWatcher:
             lines += [_outcome(e) for e in self.cell.events if e.look == look.number]
             y = 4
             for text in lines:
-                pen.text((5, y + 1), text, fill=(0, 0, 0))
-                pen.text((4, y), text, fill=(255, 255, 0))
+                caption(pen, (4, y), text)
                 y += 12
             picture.save(folder / f"look-{i:03d}.png")
+
+
+def caption(pen, xy: tuple[int, int], text: str) -> None:
+    """Yellow text with a dark shadow at xy. The default font's space is 2 px wide, which the
+    shadow fills ('4 free endsseen'): words are set apart by 4 px."""
+    x, y = xy
+    for word in text.split(" "):
+        pen.text((x + 1, y + 1), word, fill=(0, 0, 0))
+        pen.text((x, y), word, fill=(255, 255, 0))
+        x += int(pen.textlength(word)) + 4
 
 
 def _outcome(e) -> str:

@@ -299,3 +299,17 @@ def test_a_camera_that_returns_nothing_is_a_clear_runtime_error_with_the_arm_hal
             s.run(f"VAR W^, WG^ : FRAME\nb := {call}")
         assert e.value.render().startswith(f"<string>:2:{col}: error: {call.split('(')[0]}: {message}")
         assert s.robot.halted
+
+
+def test_captions_on_the_pictures_keep_their_spaces():
+    """The default font's space is 2 px, which the text's shadow filled: '4 free endsseen'."""
+    from PIL import Image, ImageDraw
+
+    from rcl.runreport import caption
+
+    picture = Image.new("RGB", (200, 20), (200, 200, 200))  # a light tray
+    pen = ImageDraw.Draw(picture)
+    caption(pen, (4, 4), "ends seen")
+    ink = np.any(np.abs(np.asarray(picture).astype(int) - 200).sum(axis=2) > 30, axis=0)  # text or shadow
+    columns = np.flatnonzero(ink)
+    assert (np.diff(columns) - 1).max() >= 3  # bare tray between the words (1 px before)
