@@ -428,3 +428,14 @@ def test_photo_labels_become_wire_ends_judged_as_the_trays_are():
     good = Sighting((61.0, 100.0), 0.0, (61.0 + 60.0, 100.0), 0.0)
     assert tray.judge(good)[0] == "correct"
     assert tray.judge(Sighting((200.0, 100.0), 0.0, (260.0, 100.0), 0.0))[0] == "foul"  # mid-wire
+
+
+def test_overlays_show_an_image_at_fixed_levels():
+    """An empty tray is drawn as the grey it is, not stretched from its own least to its most
+    (which made the noise of an empty tray look like a camera fault)."""
+    from rcl.vision.overlay import draw
+
+    rng = np.random.default_rng(7)
+    empty = np.clip(0.8 + rng.normal(0, 0.01, (120, 160)), 0, 1)
+    shown = np.asarray(draw(empty, find_wires_ridge(empty, 4.0)))[..., 0].astype(float)
+    assert abs(shown.mean() - 204) < 2 and shown.std() < 5  # 0.8 of full scale, the noise as small as it is

@@ -22,7 +22,10 @@ def draw(image: np.ndarray, result, arrow_px: float | None = None):
 
     grey = as_grey(image)
     lo, hi = float(grey.min()), float(grey.max())
-    base = ((grey - lo) / (hi - lo) * 255.0) if hi > lo else np.zeros_like(grey)
+    if lo >= 0.0 and hi <= 1.0:  # fixed levels: an empty tray looks like a tray, not a camera fault
+        base = grey * 255.0
+    else:  # numbers in units of their own: shown from their least to their most
+        base = (grey - lo) / (hi - lo) * 255.0
     picture = Image.fromarray(base.astype(np.uint8)).convert("RGB")
     pen = ImageDraw.Draw(picture)
     h, w = grey.shape
