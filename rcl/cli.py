@@ -69,6 +69,9 @@ def _parser() -> argparse.ArgumentParser:
                      help="write how the run went on the simulated cell: wires, attempts, failures, timings")
     run.add_argument("--pictures", metavar="DIR",
                      help="write a PNG per look: the camera image, what vision saw, the grasp and the outcome")
+    run.add_argument("--frames", metavar="DIR",
+                     help="write each look's raw camera image, frame-NNN.png (numbered as the pictures), "
+                          "to try `rcl vision` on")
     run.set_defaults(handler=_run)
     repl = sub.add_parser("repl", parents=[setup], help="the interactive prompt (the default command)")
     repl.set_defaults(handler=_repl, file="<stdin>")
@@ -225,7 +228,7 @@ def _run(args) -> int:
         watcher = RunWatcher(cell.sim, session) if cell.sim is not None else None
         code = _run_session(session, args)
         if watcher is not None and code != EXIT_STATIC:
-            code = watcher.finish(args.report, args.pictures) or code
+            code = watcher.finish(args.report, args.pictures, args.frames) or code
         return code
     return _with_setup(args, body)
 

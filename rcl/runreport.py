@@ -50,7 +50,7 @@ class RunWatcher:
                 f"{r['attempts']} picks tried, {len(r['failures'])} failures; "
                 f"robot time {r['robot_time_s']:.1f} s{vision}")
 
-    def finish(self, report_path: Optional[str], pictures: Optional[str]) -> int:
+    def finish(self, report_path: Optional[str], pictures: Optional[str], frames: Optional[str] = None) -> int:
         """Print the summary, write what was asked for; 1 if something could not be written."""
         r = self.report()
         line = self.summary_line(r)
@@ -69,7 +69,24 @@ class RunWatcher:
             except OSError as e:
                 print(f"rcl: error: --pictures: cannot write into {pictures}: {e.strerror or e}", file=sys.stderr)
                 status = 1
+        if frames:
+            try:
+                self.write_frames(Path(frames))
+            except OSError as e:
+                print(f"rcl: error: --frames: cannot write into {frames}: {e.strerror or e}", file=sys.stderr)
+                status = 1
         return status
+
+    def write_frames(self, folder: Path) -> None:
+        """Each look's camera image as the finder got it, frame-NNN.png (NNN: the look's number, as
+        on the pictures), 8 bits a channel: what `rcl vision` can be tried on."""
+        import numpy as np
+        from PIL import Image
+
+        folder.mkdir(parents=True, exist_ok=True)
+        for i, look in enumerate(self.looks, start=1):
+            pixels = np.clip(np.asarray(look.image, float), 0.0, 1.0) * 255.0
+            Image.fromarray(np.round(pixels).astype(np.uint8)).save(folder / f"frame-{i:03d}.png")
 
     def write_pictures(self, folder: Path) -> None:
         from PIL import ImageDraw

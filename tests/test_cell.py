@@ -268,7 +268,7 @@ def test_stations_and_sensors_need_a_cell_that_has_them():
 
 def test_the_main_job_from_the_command_line_reports_and_draws_every_look(tmp_path):
     r = rcl("run", str(ROOT / "examples" / "crimp.rcl"), "--seed", "4", "--report", str(tmp_path / "r.json"),
-            "--pictures", str(tmp_path / "pics"), cwd=tmp_path, timeout=120)
+            "--pictures", str(tmp_path / "pics"), "--frames", str(tmp_path / "frames"), cwd=tmp_path, timeout=120)
     assert r.returncode == 0, r.stderr
     report = json.loads((tmp_path / "r.json").read_text())
     assert set(report) >= {"wires_total", "wires_done", "attempts", "failures", "sensing_ms", "robot_time_s"}
@@ -277,6 +277,11 @@ def test_the_main_job_from_the_command_line_reports_and_draws_every_look(tmp_pat
     assert report["attempts"] >= report["wires_done"] and report["robot_time_s"] > 0
     assert all(isinstance(ms, float) and ms > 0 for ms in report["sensing_ms"])
     assert len(list((tmp_path / "pics").glob("look-*.png"))) == len(report["sensing_ms"]) == report["looks"]
+    # the raw frames, numbered as the pictures, are images `rcl vision` reads
+    frames = sorted((tmp_path / "frames").glob("frame-*.png"))
+    assert [f.name[6:] for f in frames] == [p.name[5:] for p in sorted((tmp_path / "pics").glob("look-*.png"))]
+    from rcl.camera import read_image
+    assert read_image(frames[0]).shape[:2] == (512, 512)
     assert r.stdout.count(", crimped\n") == report["wires_done"]
     assert f"cell: {report['wires_total']} wires" in r.stdout
     assert not math.isnan(report["robot_time_s"])
