@@ -63,18 +63,14 @@ class RunWatcher:
             except OSError as e:
                 print(f"rcl: error: --report: cannot write {report_path}: {e.strerror or e}", file=sys.stderr)
                 status = 1
-        if pictures:
-            try:
-                self.write_pictures(Path(pictures))
-            except OSError as e:
-                print(f"rcl: error: --pictures: cannot write into {pictures}: {e.strerror or e}", file=sys.stderr)
-                status = 1
-        if frames:
-            try:
-                self.write_frames(Path(frames))
-            except OSError as e:
-                print(f"rcl: error: --frames: cannot write into {frames}: {e.strerror or e}", file=sys.stderr)
-                status = 1
+        for option, folder, write in (("--pictures", pictures, self.write_pictures),
+                                       ("--frames", frames, self.write_frames)):
+            if folder:
+                try:
+                    write(Path(folder))
+                except OSError as e:
+                    print(f"rcl: error: {option}: cannot write into {folder}: {e.strerror or e}", file=sys.stderr)
+                    status = 1
         return status
 
     def write_frames(self, folder: Path) -> None:
