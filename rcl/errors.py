@@ -7,7 +7,6 @@ line and a caret under the column.
 from __future__ import annotations
 
 import itertools
-
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Optional

@@ -9,7 +9,7 @@ from __future__ import annotations
 import os
 from functools import cache, lru_cache
 from pathlib import Path
-from typing import Optional, Iterator
+from typing import Iterator, Optional
 
 import lark
 from lark import Token, Transformer
@@ -67,7 +67,7 @@ def _children(node) -> Iterator[A.Node]:
             for item in value:
                 if isinstance(item, A.Node):
                     yield item
-                elif isinstance(item, (list, tuple)):  # ELSIF arms, CASE labels: pairs of nodes
+                elif isinstance(item, (list, tuple)):  # an IF's branches: (condition, block) pairs
                     yield from (x for x in item if isinstance(x, A.Node))
 
 

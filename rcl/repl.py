@@ -259,7 +259,7 @@ class Repl:
         if key in builtins:
             b = builtins[key]
             return f"{b.signature()}\n{b.doc}" if b.doc else b.signature()
-        routine = self.session._scope.routines.get(key)
+        routine = self.session.routines().get(key)
         if routine is not None:
             params = "; ".join(("VAR " if p.by_ref else "") + f"{p.name} : {p.type}" for p in routine.params)
             kind = "FUNCTION" if routine.is_function else "PROCEDURE"
@@ -274,7 +274,7 @@ class Repl:
     def _user_names(self) -> set[str]:
         """The variables and routines of this session, lower case."""
         names = {n.lower() for n in self.session.variables()}
-        return names | {r.name.lower() for r in self.session._scope.routines.values()}
+        return names | set(self.session.routines())
 
     def variables(self) -> list[str]:
         lines = []
@@ -288,7 +288,7 @@ class Repl:
         """Keywords, built-ins, routines and variables starting with word (any case)."""
         key = word.lower()
         names = set(keywords()) | set(self.session.builtins())
-        names |= {r.name for r in self.session._scope.routines.values()}
+        names |= {r.name for r in self.session.routines().values()}
         names |= set(self.session.variables())
         return sorted((n for n in names if n.lower().startswith(key)), key=str.lower)
 

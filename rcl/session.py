@@ -34,7 +34,7 @@ from .frame import Frame, FrameError
 from .interpreter import Compiler, Context
 from .loader import describe_read_error, load, read_source
 from .robots import SimRobot
-from .scope import GlobalScope
+from .scope import GlobalScope, Routine
 from .values import Array, default_factory
 
 RECURSION_LIMIT = 100_000  # Python frames; RCL's own limit (MAX_CALL_DEPTH) is what users meet
@@ -204,6 +204,10 @@ class Session:
     def variables(self) -> dict[str, str]:
         """Every global variable and constant, as first written, with its type."""
         return {v.name: str(v.type) for v in self._scope.variables.values()}
+
+    def routines(self) -> dict[str, Routine]:
+        """Every PROCEDURE and FUNCTION the session knows (its own and its imports'), by lower-case name."""
+        return dict(self._scope.routines)
 
     def register(self, func: Callable, name: Optional[str] = None) -> Builtin:
         """Make a Python function a built-in of this session; its annotations are its RCL signature."""

@@ -78,9 +78,10 @@ class SSC32(Driver):
         if not MIN_US <= us <= MAX_US:
             raise RobotError(f"joint {self.model.joints[joint].name} at {degrees:.1f} degrees needs a pulse of "
                              f"{us} us, outside the SSC-32's {MIN_US}..{MAX_US}")
-        if abs(self.angle(joint, us) - degrees) > 1.0:  # what is sent must say what was asked
+        means = self.angle(joint, us)
+        if abs(means - degrees) > 1.0:  # what is sent must say what was asked
             raise RobotError(f"joint {self.model.joints[joint].name}: the pulse {us} us means "
-                             f"{self.angle(joint, us):.1f} degrees, not the {degrees:.1f} asked for")
+                             f"{means:.1f} degrees, not the {degrees:.1f} asked for")
         return us
 
     def angle(self, joint: int, us: int) -> float:
