@@ -61,3 +61,32 @@ class MarkerCamera:
         radius = 4.0 * self.camera.focal_px / float(self.camera.depth(x, y, z))  # a 4 mm disc
         img = render_disc((self.camera.height, self.camera.width), (float(u), float(v)), radius, 0.9, 0.35)
         return img + self.rng.normal(0.0, self.noise, img.shape)
+
+
+def lit_wires(wires, size=(512, 512), ppm=4.0, board=0.8, gloss=0.5, shadow=0.25, lamp=(0.5, 0.3, 0.81)):
+    """An image of straight dark wires on a plain board, lit from one side: each round wire
+    shaded with a specular line along it and casting a soft shadow. wires: (tip (x, y) mm,
+    angle deg, length mm, width mm) each. Returns the grey image and each wire's centre line
+    (mm, from its tip)."""
+    import math
+
+    import numpy as np
+
+    from rcl.vision.scenes import Scene, WireLook, finish, paint
+    from rcl.vision.synth import Wire
+
+    drawn, looks, lines = [], [], []
+    for i, (tip, angle, length, width) in enumerate(wires):
+        d = np.array([math.cos(math.radians(angle)), math.sin(math.radians(angle))])
+        centre = np.array(tip, float) + np.arange(0.0, length, 0.5)[:, None] * d
+        drawn.append(Wire(centre, width, i, (0.1,)))
+        looks.append(WireLook("black", (0.1, 0.1, 0.1), ("flat", "flat"), (0.0, 0.0), gloss))
+        lines.append(centre)
+    h, w = size
+    lamp = np.array(lamp) / np.linalg.norm(lamp)
+    scene = Scene(w, h, ppm, False, len(wires), len(wires), ("straight",), (1.0, 3.0), ("black",), ("flat",),
+                  "plain", (board,) * 3, 0.0, (0.0, 0.0, 0.0), tuple(lamp), shadow, 0.0, 0.0, 0.01, 0, False,
+                  0, 0.0, False)
+    under = np.broadcast_to(np.array((board,) * 3, np.float32), (h, w, 3)).copy()
+    image = finish(scene, paint(scene, drawn, looks, under), np.random.default_rng(0))
+    return image.mean(axis=2) if image.ndim == 3 else image, lines

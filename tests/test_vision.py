@@ -1,10 +1,13 @@
 """Vision: the paper's thinning criterion, the thinning itself, and the binary system on generated trays."""
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 from scipy import ndimage
 
+from conftest import lit_wires
 from rcl.vision.binary import NEIGHBOURS, critically_connected, find_wires_binary, papers_expression, thin
 from rcl.vision.synth import KINDS, make_tray
 
@@ -73,6 +76,35 @@ def test_binary_first_pick_is_a_graspable_end_on_most_trays(kind):
         truth = min(tray.ends, key=lambda e: np.linalg.norm(e.point - end))
         good += truth.graspable and np.linalg.norm(truth.point - end) < 2.0
     assert good >= 6
+
+
+@pytest.mark.parametrize("board, shadow", [(0.8, 0.0), (0.8, 0.35), (0.6, 0.35)])
+def test_binary_places_a_glossy_shadowed_wires_ends_at_its_tips(board, shadow):
+    """A round black wire lit from one side: its specular line is lighter than the threshold
+    (it ended the wire at once, 1.7 mm short) and its soft shadow darker (it carried the end
+    up to 2.2 mm out onto the tray)."""
+    image, (centre,) = lit_wires([((30.0, 40.0), 25.0, 70.0, 2.8)], board=board, gloss=0.6, shadow=shadow)
+    res = find_wires_binary(image, 4.0)
+    for tip, inward in ((centre[0], centre[1] - centre[0]), (centre[-1], centre[-2] - centre[-1])):
+        near = [s for s in res.candidates if np.linalg.norm(np.array(s.end) / 4.0 - tip) < 3.0]
+        assert near, f"the end at {tip} is not seen"
+        assert np.linalg.norm(np.array(near[0].end) / 4.0 - tip) < 0.8
+        a = math.radians(near[0].end_angle)
+        assert np.dot([math.cos(a), math.sin(a)], inward / np.linalg.norm(inward)) > math.cos(math.radians(10))
+
+
+def test_binary_wants_room_for_the_fingers_on_every_side_of_the_grasp_point():
+    """Another wire's end 3.5 mm from the grasp point, off to one side and ahead of it, is not
+    straight across the wire, where the paper measured the clearance; the fingers would still
+    close on it."""
+    lone = [((30.0, 64.0), 0.0, 80.0, 2.0)]
+    # the grasp point is 15 mm from the tip: (45, 64); the other wire's end lies at (47.5, 61.5)
+    beside = lone + [((47.5 + 0.7, 61.5 - 0.7), -45.0, 40.0, 1.5)]
+    for wires, free in ((lone, True), (beside, False)):
+        image, lines = lit_wires(wires, size=(512, 640), gloss=0.0, shadow=0.0)
+        res = find_wires_binary(image, 4.0)
+        taken = [s for s in res.candidates if np.linalg.norm(np.array(s.end) / 4.0 - lines[0][0]) < 2.0]
+        assert bool(taken) == free, res.candidates
 
 
 def test_binary_copes_with_blank_noise_and_tiny_images():

@@ -19,10 +19,12 @@ expression (papers_expression), which cuts thin lines; the Laplacian's sigma is
 0.7 averaged pixels, not 2, and only zero crossings with a real edge count
 (log_threshold); spurs shorter than SPUR_MM are pruned; the block size follows
 the scale; the end is the far edge of the mask nearest the skeleton's end (the
-thinning wears thick ends away), refined at full resolution, with a stripped
-conductor's tip beyond it; the directions are fitted over 2 * END_PX skeleton
-points and TANGENT_PX either side of the grasp point instead of the paper's 3
-and 2 (at ~1 mm a pixel those quantise to tens of degrees).
+thinning wears thick ends away), refined at full resolution (across the wire's
+middle, at the half level between the wire and the tray beyond it), with a
+stripped conductor's tip beyond it; the directions are fitted over 2 * END_PX
+skeleton points and TANGENT_PX either side of the grasp point instead of the
+paper's 3 and 2 (at ~1 mm a pixel those quantise to tens of degrees); nothing but
+the wire may lie within FINGER_CLEARANCE_MM of the grasp point, on any side.
 """
 from __future__ import annotations
 
@@ -41,7 +43,7 @@ FINGER_CLEARANCE_MM = 4.0
 SPUR_MM = 3.0
 EDGE_FACTOR = 4.0
 TANGENT_PX = 4  # the paper takes +-2 skeletal points; at ~1 mm per pixel that quantises to tens of degrees
-END_PX = 6  # likewise the end direction: from the end to the point 6 px in (the paper: 3)
+END_PX = 4  # likewise the end direction: fitted over the first 8 px (the paper: from the end to 3 px in)
 BORDER_PX = 2  # skeleton ends this close to the border of the averaged image are cut by it
 
 # The 3x3 neighbours, numbered as in the paper: 1 = E, then anticlockwise to 8 = SE.
@@ -246,22 +248,59 @@ class _Looks:
         self.tray, noise = tray_level(grey, 4)
         self.shine = max(4 * noise, 0.05)
 
-    def extend_end(self, u: float, v: float, du: float, dv: float, limit_px: float) -> float:
-        """How far (px) the wire goes on beyond (u, v) in the direction (du, dv)."""
-        s = np.arange(0.5, limit_px, 0.5)
-        h, w = self.grey.shape
-        cols = np.round(u + s * du).astype(int)
-        rows = np.round(v + s * dv).astype(int)
-        inside = (cols >= 0) & (cols < w) & (rows >= 0) & (rows < h)
-        g = np.where(inside, self.grey[np.clip(rows, 0, h - 1), np.clip(cols, 0, w - 1)], self.tray)
-        wire = g < self.threshold if self.dark else g > self.threshold
-        wire &= inside
-        off = np.flatnonzero(~wire)
-        # the wire ends where 1.5 px of background begin (anti-aliased edges leave single gaps)
+    def extend_end(self, u: float, v: float, du: float, dv: float, limit_px: float, width: float) -> float:
+        """How far (px) the wire goes on beyond (u, v) in the direction (du, dv); less than
+        0 when it ends before that point.
+
+        The wire is read across its middle half (the darkest, or for light wires the
+        lightest, of three lines along it), so a glossy wire's highlight does not end it.
+        The global threshold gives a first end; the end is then where the grey first
+        crosses half way between the wire (a width inside) and the tray just beyond that
+        first end: the global threshold can lie on the wrong side of a wire's soft shadow
+        or of uneven light."""
+        span = max(width, 2.0)
+        s = np.arange(-1.5 * span, limit_px, 0.5)
+        g, inside = self._band(u, v, du, dv, s, width)
+        first = self._run_end(s, g, inside, self.threshold, s >= 0.5)
+        if first is None:
+            return 0.0
+        interior = g[(s >= -1.5 * span) & (s <= -0.5 * span)]
+        beyond = g[(s >= first + 1.0) & (s <= first + span) & inside]
+        if not interior.size or not beyond.size:
+            return first
+        level_in = float(interior.min()) if self.dark else float(interior.max())
+        level_out = float(beyond.max()) if self.dark else float(beyond.min())
+        refined = self._run_end(s, g, inside, 0.5 * (level_in + level_out), s >= -0.5 * span)
+        return first if refined is None else refined
+
+    def _run_end(self, s: np.ndarray, g: np.ndarray, inside: np.ndarray, level: float, start: np.ndarray):
+        """The last wire sample before 1.5 px of background begin (anti-aliased edges leave
+        single gaps), counting from the first sample where start holds; None if the line
+        starts on background."""
+        wire = (g < level if self.dark else g > level) & inside
+        i0 = int(np.argmax(start))
+        wire = wire[i0:]
         run = np.convolve(~wire, np.ones(3, int), mode="valid") == 3
-        stop = int(np.argmax(run)) if run.any() else len(s)
+        stop = int(np.argmax(run)) if run.any() else len(wire)
         on = np.flatnonzero(wire[:stop])
-        return float(s[on[-1]]) if on.size else 0.0 if off.size or not len(s) else float(s[-1])
+        return float(s[i0 + on[-1]]) if on.size else None
+
+    def _band(self, u: float, v: float, du: float, dv: float, s: np.ndarray, width: float):
+        """The grey along a line, the darkest (light wires: lightest) of three parallel
+        lines 0.25 of the wire's width apart; and which samples lie inside the image."""
+        h, w = self.grey.shape
+        best, inside = None, None
+        for off in (-0.25 * width, 0.0, 0.25 * width):
+            cols = np.round(u + s * du - off * dv).astype(int)
+            rows = np.round(v + s * dv + off * du).astype(int)
+            ok = (cols >= 0) & (cols < w) & (rows >= 0) & (rows < h)
+            g = np.where(ok, self.grey[np.clip(rows, 0, h - 1), np.clip(cols, 0, w - 1)], self.tray)
+            if best is None:
+                best, inside = g, ok
+            else:
+                best = np.minimum(best, g) if self.dark else np.maximum(best, g)
+                inside &= ok
+        return best, inside
 
 
 def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _Looks,
@@ -275,12 +314,15 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
     from scipy import ndimage
 
     inside = ndimage.distance_transform_edt(mask)  # half the wire's width, on its skeleton
+    reach_px = int(math.ceil(FINGER_CLEARANCE_MM / mm)) + 2
+    disc = np.argwhere(np.hypot(*np.mgrid[-reach_px:reach_px + 1, -reach_px:reach_px + 1]) <= FINGER_CLEARANCE_MM / mm + 0.5)
+    disc -= reach_px
     for r, c in zip(*(a.tolist() for a in np.nonzero(counts == 1))):
         if r < BORDER_PX or c < BORDER_PX or r >= h - BORDER_PX or c >= w - BORDER_PX:
             continue  # an edge is not a wire end
-        path, crossing = _trace(pixels, (r, c), need)
-        if crossing or len(path) < need:
-            continue
+        path, _ = _trace(pixels, (r, c), need + reach_px)
+        if len(path) <= need:
+            continue  # a crossing, or the other end, within GRASP_MM + 3 mm
         # the wire's axis near the end, fitted past the end's last few (worn) skeleton points
         near = np.array(path[:2 * END_PX], float)  # (row, column)
         centre = near.mean(axis=0)
@@ -294,10 +336,10 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
         reach = float(max(((cap // w - centre[0]) * dv + (cap % w - centre[1]) * du).max(), 0.0)) if cap.size else 0.0
         reach = max(reach - 1.5, 0.0)  # from safely inside the wire, at full resolution:
         u0, v0 = _to_input(centre[1] + reach * du, centre[0] + reach * dv, k)
-        beyond = looks.extend_end(u0, v0, du, dv, limit_px=10.0 * px_per_mm)
+        width = 2.0 * float(np.median(inside[tuple(np.array(path[:2 * END_PX]).T)])) * k
+        beyond = looks.extend_end(u0, v0, du, dv, limit_px=10.0 * px_per_mm, width=width)
         end_uv = (u0 + beyond * du, v0 + beyond * dv)
         if looks.dark:  # a stripped conductor or ferrule beyond the insulation: the end is its tip
-            width = 2.0 * float(np.median(inside[tuple(np.array(path[:2 * END_PX]).T)])) * k
             tip = conductor_tip(looks.grey, np.array(end_uv[::-1]), np.array([dv, du]), width, px_per_mm,
                                 looks.tray + looks.shine)
             if tip is False:
@@ -330,6 +372,9 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
         clearance = _clearance(mask, grasp, tangent) * mm
         if clearance < FINGER_CLEARANCE_MM:
             continue
+        own = {p[0] * w + p[1] for p in path[max(g - reach_px - 2, 0):]}
+        if _other_wire_near(mask, nearest, width / (2 * k), grasp, disc, own):
+            continue
         out.append(Sighting(end_uv, end_angle, _to_input(grasp[1], grasp[0], k), tangent, score=clearance))
     out.sort(key=lambda s: -s.score)
     return out
@@ -343,6 +388,27 @@ def _nearest_skeleton(skeleton: np.ndarray, mask: np.ndarray) -> np.ndarray:
         return np.full(mask.size, -1)
     _, (rows, cols) = ndimage.distance_transform_edt(~skeleton, return_indices=True)
     return np.where(mask, rows * mask.shape[1] + cols, -1).ravel()
+
+
+def _other_wire_near(mask: np.ndarray, nearest: np.ndarray, half: float, at: tuple[int, int],
+                     disc: np.ndarray, own: set) -> bool:
+    """Whether anything but this wire (its skeleton pixels own) comes within the disc round a
+    grasp point: the fingers close from any side, not only straight across. A mask pixel
+    is this wire's when its nearest skeleton pixel is one of own and it lies no farther from
+    it than the wire's half width (half, measured near the end) and a pixel: a neighbour
+    that merges with the wire in the mask bulges out past that."""
+    h, w = mask.shape
+    pts = disc + np.array(at)
+    pts = pts[(pts[:, 0] >= 0) & (pts[:, 0] < h) & (pts[:, 1] >= 0) & (pts[:, 1] < w)]
+    pts = pts[mask[pts[:, 0], pts[:, 1]]]
+    near = nearest[pts[:, 0] * w + pts[:, 1]]
+    for (pr, pc), i in zip(pts.tolist(), near.tolist()):
+        if i not in own:
+            return True
+        sr, sc = divmod(i, w)
+        if math.hypot(pr - sr, pc - sc) > half + 1.0:
+            return True
+    return False
 
 
 def _clearance(mask: np.ndarray, at: tuple[int, int], tangent_deg: float, reach: int = 40) -> float:
