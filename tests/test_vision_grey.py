@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+from conftest import lit_wires
 from rcl.vision import VisionError, find_wires
 from rcl.vision.grey import STEPS, chain_points, edge_at, edges, find_wires_grey
 from rcl.vision.synth import KINDS, make_tray
@@ -141,3 +142,17 @@ def test_cli_json_contract_and_overlay(tmp_path):
     assert (tmp_path / "pics" / "a.png").exists()
     picture = Image.open(tmp_path / "pics" / "a.png")
     assert picture.size == (512, 512) and picture.mode == "RGB"
+
+
+def test_grey_does_not_take_a_wires_own_shadow_for_another_wire():
+    """A lamp to one side: the wire's soft shadow shows a faint edge beside it, which the
+    isolation test counted as another wire within a finger's clearance (both ends refused)."""
+    image, (centre,) = lit_wires([((30.0, 50.0), 10.0, 70.0, 2.5)], gloss=0.0, shadow=0.2, lamp=(0.0, -0.6, 0.8))
+    res = find_wires_grey(image, 4.0)
+    for tip in (centre[0], centre[-1]):
+        assert any(np.linalg.norm(np.array(s.end) / 4.0 - tip) < 1.0 for s in res.candidates), res.looks.rejected
+    # the same edge where another wire lies: still not free
+    image, lines = lit_wires([((30.0, 50.0), 10.0, 70.0, 2.5), ((30.0, 54.5), 10.0, 70.0, 1.0)], gloss=0.0,
+                             shadow=0.2, lamp=(0.0, -0.6, 0.8))
+    res = find_wires_grey(image, 4.0)
+    assert not any(np.linalg.norm(np.array(s.end) / 4.0 - lines[0][0]) < 2.0 for s in res.candidates)

@@ -29,7 +29,9 @@ set from the image's own noise (a robust estimate from the median edge magnitude
 rather than fixed; the isolation test uses the working image's edges, not the
 64 x 64 image's (at 2 mm a pixel those cannot tell a finger's clearance); the two
 sides of a candidate end must stay parallel and the wire's width constant to the
-grasp point (a wire that merges with another is not free); an end whose boundary
+grasp point (a wire that merges with another is not free); a faint edge beside the
+wire across which the grey goes on away from the wire's level is its shadow, not
+another wire (SHADOW_EDGE); an end whose boundary
 turns round in front of a thinner, brighter continuation (a stripped conductor or
 ferrule) is moved out to the conductor's tip; the unit lengths scale with the
 working image's px/mm when an image is not 2 px/mm after averaging.
@@ -57,6 +59,7 @@ END_TURN_TOL = 40.0  # degrees from an exact reversal that still count as one
 MAX_TURN = 1  # Freeman steps (45 degrees) the trace may turn per step
 ENOUGH = 3  # free ends to find before the search stops
 EDGE_NOISE_FACTOR = 3.5  # edge threshold, in units of the noise's edge magnitude
+SHADOW_EDGE = 0.2  # beside a wire, an edge fainter than this part of its own, going on away from its level, is its shadow
 
 # Freeman chain code directions: 0 = E, anticlockwise as seen on the screen (row - 1 is up).
 STEPS = ((0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1), (1, 0), (1, 1))
@@ -133,7 +136,7 @@ def find_wires_grey(image: np.ndarray, px_per_mm: float = 4.0, enough: int = ENO
     ppm = px_per_mm / k  # working px per mm
     unit = ppm / WORK_PX_PER_MM  # the paper's units at this scale
     tracer = _Tracer(gc, gr, mag, t)
-    looks = _Looks(work, mag, t, ppm)
+    looks = _Looks(work, mag, t, ppm, gc, gr)
     result.looks = looks
     kept: list[Sighting] = []
     ends_ms = 0.0
@@ -343,9 +346,11 @@ def _ridge(mag: np.ndarray, gc: np.ndarray, gr: np.ndarray) -> np.ndarray:
 class _Looks:
     """Reads wire ends off boundaries and tests them on the working image."""
 
-    def __init__(self, work: np.ndarray, mag: np.ndarray, threshold: float, ppm: float) -> None:
+    def __init__(self, work: np.ndarray, mag: np.ndarray, threshold: float, ppm: float,
+                 gc: Optional[np.ndarray] = None, gr: Optional[np.ndarray] = None) -> None:
         self.work = work
         self.mag = mag
+        self.gc, self.gr = gc, gr
         self.t = threshold
         self.ppm = ppm
         self.tray, noise = tray_level(work, 2)
@@ -456,16 +461,22 @@ class _Looks:
         if (span_pts.min() < margin or span_pts[:, 0].max() > h - 1 - margin or span_pts[:, 1].max() > w - 1 - margin
                 or min(end_rc) < margin or end_rc[0] > h - 1 - margin or end_rc[1] > w - 1 - margin):
             return self._no("too near the border")
-        clearance = self._clearance(span_pts, arc, w0, end_rc, inward)
+        h2, w2 = self.mag.shape
+        side_pts = np.clip(np.round(np.vstack([fwd, bwd])).astype(int), 0, [h2 - 1, w2 - 1])
+        own = float(np.median(self.mag[side_pts[:, 0], side_pts[:, 1]]))
+        clearance = self._clearance(span_pts, arc, w0, end_rc, inward, own if dark else -own)
         if clearance is None:
             return self._no("not isolated")
         return Sighting((float(end_rc[1]), float(end_rc[0])), end_angle, (float(grasp[1]), float(grasp[0])),
                         tangent, score=clearance)
 
     def _clearance(self, centre: np.ndarray, arc: np.ndarray, width: float, end: np.ndarray,
-                   inward: np.ndarray) -> Optional[float]:
+                   inward: np.ndarray, own: float = 0.0) -> Optional[float]:
         """The isolation test. The smallest free distance (mm) beside the wire near the grasp
-        point, or None when another boundary comes too close anywhere along the span."""
+        point, or None when another boundary comes too close anywhere along the span.
+
+        own is the wire's own edge magnitude (its sides' median), positive for a wire darker
+        than the tray, negative for a lighter one (0: count every edge)."""
         ppm = self.ppm
         h, w = self.mag.shape
         c, a = centre, arc
@@ -479,7 +490,7 @@ class _Looks:
             p = c[:, None, :] + sign * normal[:, None, :] * reach[None, :, None]
             r = np.clip(np.round(p[..., 0]).astype(int), 0, h - 1)
             q = np.clip(np.round(p[..., 1]).astype(int), 0, w - 1)
-            hit = self.mag[r, q] > self.t
+            hit = self._edge(r, q, sign * normal[:, None, :], own)
             hit[:, :-1] &= hit[:, 1:]  # an edge shows on two samples running; noise rarely does
             first = np.where(hit.any(axis=1), reach[np.argmax(hit, axis=1)], reach[-1] + 1)
             free.append(first / ppm)
@@ -495,10 +506,25 @@ class _Looks:
         p = end[None, None, :] + out[None, None, :] * offsets[:, None, None] + side * lateral[None, :, None]
         r = np.clip(np.round(p[..., 0]).astype(int), 0, h - 1)
         q = np.clip(np.round(p[..., 1]).astype(int), 0, w - 1)
-        hit = self.mag[r, q] > self.t
+        # in front of the end only half as faint an edge is its shadow: a metal tip too dull to
+        # be seen as one (darker than the tray, lighter than the wire) shows a faint edge too
+        hit = self._edge(r, q, out, 0.5 * own)
         if (hit[:-1] & hit[1:]).any():
             return None
         return float(free[near_grasp].min())
+
+
+    def _edge(self, r: np.ndarray, q: np.ndarray, outward: np.ndarray, own: float) -> np.ndarray:
+        """Whether each working pixel (r, q) holds an edge that is not the wire's own soft
+        shadow: a faint edge across which the grey, going outward (outward: row, col), moves
+        on away from the wire's level (lighter, out from a dark wire). Another wire shows an
+        edge the other way first, or a strong one. own: see _clearance."""
+        hit = self.mag[r, q] > self.t
+        if own and self.gc is not None and self.gr is not None:
+            rise = self.gr[r, q] * outward[..., 0] + self.gc[r, q] * outward[..., 1]
+            away = rise > 0 if own > 0 else rise < 0
+            hit &= ~(away & (self.mag[r, q] < SHADOW_EDGE * abs(own)))
+        return hit
 
 
 def seg_half(unit: float) -> int:
