@@ -1,0 +1,157 @@
+"""The README and the tutorial, walked top to bottom: every REPL transcript replays with the
+output it shows, every program fragment runs (or fails as the text says), every `rcl` command
+runs with the output quoted after it, and the README's Python example works. Docs that drift
+from the code fail here."""
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+from conftest import ROOT, rcl
+
+TUTORIAL = ROOT / "docs" / "tutorial.md"
+README = ROOT / "README.md"
+
+
+def code_blocks(path) -> list[tuple[str, list[str]]]:
+    """(the heading it lies under, its lines) for each code block of a Markdown file: fenced
+    (```) or indented by four spaces after a blank line."""
+    blocks, heading, fence, current = [], "", None, None
+    lines = path.read_text(encoding="utf-8").splitlines()
+    for i, line in enumerate(lines):
+        if fence is not None:
+            if line.startswith("```"):
+                blocks.append((heading, fence))
+                fence = None
+            else:
+                fence.append(line)
+            continue
+        if line.startswith("```"):
+            fence = []
+            continue
+        if line.startswith("#"):
+            heading = line.lstrip("#").strip()
+        indented = line.startswith("    ") or (current is not None and not line.strip())
+        if current is not None and indented:
+            current.append(line[4:])
+        elif current is not None:
+            while current and not current[-1].strip():
+                current.pop()
+            blocks.append((heading, current))
+            current = None
+        if current is None and line.startswith("    ") and (i == 0 or not lines[i - 1].strip()):
+            current = [line[4:]]
+    if current:
+        blocks.append((heading, current))
+    return blocks
+
+
+def section(heading_start: str) -> list[list[str]]:
+    return [b for h, b in code_blocks(TUTORIAL) if h.startswith(heading_start)]
+
+
+def expect_in_order(output: str, expected: list[str]) -> None:
+    """Each expected line appears in output, in order; a line ending in '...' is a prefix."""
+    got = [line.rstrip() for line in output.splitlines()]
+    at = 0
+    for want in expected:
+        want = want.rstrip()
+        prefix = want.endswith("...")
+        stem = want[:-3].rstrip() if prefix else want
+        for j in range(at, len(got)):
+            if (got[j].startswith(stem) if prefix else got[j] == stem):
+                at = j + 1
+                break
+        else:
+            pytest.fail(f"{want!r} is not in the output (after line {at}):\n{output}")
+
+
+def test_the_tutorials_repl_transcripts_replay_as_shown():
+    inputs, expected = [], []
+    for _, block in code_blocks(TUTORIAL):
+        if not block or not block[0].startswith("rcl> "):
+            continue
+        for line in block:
+            if line.startswith("rcl> "):
+                inputs.append(line[5:])
+            elif line.strip():
+                expected.append(line)
+    assert len(inputs) >= 8, "the tutorial's transcripts were not found"
+    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    out = subprocess.run([sys.executable, "-m", "rcl"], input="\n".join(inputs) + "\n", capture_output=False,
+                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60, env=env)
+    expect_in_order(out.stdout, expected)
+    assert out.returncode == 2  # the transcripts show static errors: the worst exit status
+
+
+def run_program(tmp_path, text: str, *args: str) -> subprocess.CompletedProcess:
+    path = tmp_path / "walk.rcl"
+    path.write_text(text + "\n", encoding="utf-8")
+    return rcl(*args, str(path)) if args and args[0] == "check" else rcl("run", str(path))
+
+
+def test_the_tutorials_cell_equation_and_pick_run_as_written(tmp_path):
+    (declare_and_solve,) = [b for b in section("2.") if b[0].startswith("VAR")]
+    solve = [b for b in section("2.") if b[0].startswith("SOLVE")][0]
+    program = "\n".join(declare_and_solve + solve)
+    done = run_program(tmp_path, program)
+    assert done.returncode == 0, done.stderr
+    # the mistake the text describes, and the checker's answer it quotes
+    forgot = program.replace("SOLVE Z^ * T5^ * E^ = W^ * WG^ FOR T5^", "SOLVE Z^ * T5^ = W^ * WG^ FOR T5^")
+    text = TUTORIAL.read_text(encoding="utf-8")
+    quoted = " ".join(re.search(r"the checker answers \"([^\"]+)\"", text).group(1).split())
+    wrong = run_program(tmp_path, forgot, "check")
+    assert wrong.returncode == 2 and quoted in wrong.stderr, wrong.stderr
+    # section 3: approach, grasp and retreat after the same declarations
+    (pick,) = section("3.")[:1]
+    done = run_program(tmp_path, "\n".join(declare_and_solve + pick))
+    assert done.returncode == 0, done.stderr
+    # section 4: the library's PICKUP on the same frames
+    (library,) = section("4.")
+    assert library[0].startswith("IMPORT") and any(line.startswith("PICKUP") for line in library)
+    done = run_program(tmp_path, "\n".join(library[:1] + declare_and_solve + library[1:]))
+    assert done.returncode == 0, done.stderr
+
+
+def test_the_tutorials_commands_print_what_it_quotes(tmp_path):
+    """`rcl run examples/...` as the tutorial says, in a folder of one's own, with the output it
+    quotes in the block after the command."""
+    shutil.copytree(ROOT / "examples", tmp_path / "examples")
+    blocks = [b for _, b in code_blocks(TUTORIAL)]
+    commands = [(i, b[0]) for i, b in enumerate(blocks) if b and b[0].startswith("rcl run ")]
+    assert len(commands) >= 2
+    for i, command in commands:
+        args = command.split()[1:]
+        done = rcl(*args, cwd=tmp_path, timeout=300)
+        assert done.returncode == 0, f"{command}: {done.stderr}"
+        after = blocks[i + 1] if i + 1 < len(blocks) else []
+        if after and not after[0].startswith(("rcl", "WHILE", "SOLVE", "IMPORT", "VAR")):
+            expect_in_order(done.stdout, after)
+        for arg, value in zip(args, args[1:]):
+            if arg == "--plot":
+                assert (tmp_path / value).stat().st_size > 1000
+            if arg == "--pictures":
+                assert any((tmp_path / value).glob("*.png"))
+
+
+def test_the_readmes_python_example_runs():
+    (example,) = [b for _, b in code_blocks(README) if any("from rcl import Session" in line for line in b)]
+    code = "\n".join(example) + "\nprint(s['W^'].matrix[0, 3])\n"
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == ["3", "300.0"]
+
+
+def test_the_readmes_quick_start_is_two_commands_that_install_and_run():
+    blocks = [b for h, b in code_blocks(README) if h == "Quick start"]
+    assert [len(b) for b in blocks] == [1, 1]
+    (main_job,), (tests,) = blocks
+    assert "pip install ." in main_job and main_job.endswith("rcl run examples/crimp.rcl")
+    assert "pip install '.[test]'" in tests and tests.endswith("pytest")
+    # the command the CI runs is the README's
+    assert "pytest" in (ROOT / ".ci" / "run").read_text(encoding="utf-8")
