@@ -69,3 +69,18 @@ def test_program(path: Path):
             f"no error on line {line} containing {text!r}; found {found}")
     if want_exit == 2:
         assert len(found) == len(want_errors), f"unexpected diagnostics: {found}"
+
+
+def test_every_section_of_the_language_reference_has_cases_here():
+    """docs/language.md is the whole language; each of its numbered sections is exercised by
+    the project's own cases (tests/rcl/*.rcl name theirs on their first line, 'Section N'),
+    without ../shared. Section 11, the whole task, is run from the page by test_examples."""
+    page = (Path(__file__).parent.parent / "docs" / "language.md").read_text(encoding="utf-8")
+    sections = [int(n) for n in re.findall(r"^## (\d+)\. ", page, re.M)]
+    assert sections == list(range(1, len(sections) + 1)) and len(sections) >= 11
+    named = set()
+    for case in CASES:
+        first = case.read_text(encoding="utf-8").splitlines()[0]
+        named.update(int(n) for n in re.findall(r"Section (\d+)", first))
+    named.add(11)  # tests/test_examples.py::test_the_whole_task_in_the_language_reference_runs
+    assert set(sections) <= named, f"sections with no case: {sorted(set(sections) - named)}"
