@@ -107,3 +107,18 @@ def test_console_script_and_module_are_the_same_command(write):
     r = subprocess.run([exe, "run", str(p)], capture_output=True, text=True, timeout=60)
     assert (r.returncode, r.stdout) == (0, "1\n")
     assert "rcl " in subprocess.run([exe, "--version"], capture_output=True, text=True).stdout
+
+
+def test_the_sample_trays_give_rcl_vision_something_to_find(tmp_path):
+    """examples/trays: images to try `rcl vision` on before a camera is connected; each shows
+    graspable ends (the overlays are written too)."""
+    import json
+
+    images = sorted((ROOT / "examples" / "trays").glob("*.jpg"))
+    assert len(images) >= 3
+    done = rcl("vision", *map(str, images), "--json", "--overlay", str(tmp_path))
+    assert done.returncode == 0, done.stderr
+    lines = [json.loads(line) for line in done.stdout.splitlines()]
+    assert len(lines) == len(images)
+    assert all(line["wires"] for line in lines), lines
+    assert len(list(tmp_path.glob("*.png"))) == len(images)
