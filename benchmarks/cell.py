@@ -103,8 +103,16 @@ def main() -> None:
     # benchmarks/machine.py, imported here as tests load some of these files as modules
     from machine import describe
 
-    print(describe())
     args = sys.argv[1:]
+    names = [w[0] for w in WAYS]
+    bad = [a for a in args[2:] if a not in names]
+    if any(a in ("-h", "--help") for a in args) or bad or not all(a.isdigit() for a in args[:2]):
+        if bad:
+            print(f"unknown way {bad[0]!r}", file=sys.stderr)
+        print(__doc__.split("\n\n")[1] + "\nWAY is one of:\n" + "\n".join(f"    {n!r}" for n in names),
+              file=sys.stderr)
+        sys.exit(0 if not bad and any(a in ("-h", "--help") for a in args) else 2)
+    print(describe())
     trays = int(args[0]) if args else 20
     start = int(args[1]) if len(args) > 1 else 0
     ways = [w for w in WAYS if len(args) < 3 or w[0] in args[2:]]
