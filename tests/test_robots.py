@@ -162,12 +162,23 @@ def test_sim_straight_line_keeps_t5_on_the_line():
     np.testing.assert_allclose(r.here(), b, atol=1e-9)
 
 
-def test_sim_plot_is_a_png(tmp_path):
+def test_sim_plot_shows_axes_a_grid_and_each_kind_of_motion(tmp_path):
+    from rcl.robots.plot import COLOURS, nice_step
+
     r = SimRobot()
     r.move((Frame.trans(350, 50, 150) * Frame.rotx(180)).matrix)
+    r.moves((Frame.trans(350, 50, 120) * Frame.rotx(180)).matrix)
     r.home()
     r.save_plot(str(tmp_path / "path.png"))
-    assert Image.open(tmp_path / "path.png").size == (720, 380)
+    img = np.asarray(Image.open(tmp_path / "path.png").convert("RGB"))
+    assert img.shape == (476, 840, 3)
+    colours = {tuple(c) for c in img.reshape(-1, 3)[::3]}
+    for kind in ("move", "moves", "home"):  # each motion in its colour, and the same in the legend
+        assert COLOURS[kind] in colours, kind
+    assert COLOURS["jmove"] not in colours  # the legend names only what ran
+    assert (228, 228, 228) in colours  # the grid
+    # the tick steps: 1, 2 or 5 times a power of ten, about five to a panel
+    assert [nice_step(s) for s in (10.0, 47.0, 130.0, 900.0, 0.3)] == [2.0, 10.0, 50.0, 200.0, 0.1]
 
 
 def test_motion_errors_in_rcl_leave_the_arm_where_it_was():

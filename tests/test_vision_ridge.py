@@ -437,5 +437,24 @@ def test_overlays_show_an_image_at_fixed_levels():
 
     rng = np.random.default_rng(7)
     empty = np.clip(0.8 + rng.normal(0, 0.01, (120, 160)), 0, 1)
-    shown = np.asarray(draw(empty, find_wires_ridge(empty, 4.0)))[..., 0].astype(float)
+    shown = np.asarray(draw(empty, find_wires_ridge(empty, 4.0), legend=False))[..., 0].astype(float)
     assert abs(shown.mean() - 204) < 2 and shown.std() < 5  # 0.8 of full scale, the noise as small as it is
+
+
+@pytest.mark.parametrize("method", ["ridge", "grey", "binary"])
+def test_overlays_carry_a_legend_in_the_colours_they_draw(method):
+    """Below the picture, a strip names each colour: what was seen (centre lines, boundaries or
+    skeleton), the other ends, the chosen end's axes and the grasp; it wraps on a narrow image."""
+    from rcl.vision import find_wires
+    from rcl.vision.overlay import draw, legend_items
+
+    image, _, _ = straight_wire_image(20.0, size=320)
+    result = find_wires(image, method, 4.0)
+    plain = draw(image, result, legend=False)
+    shown = draw(image, result)
+    assert plain.size == (320, 320) and shown.size[0] == 320 and shown.size[1] > 320 + 16  # two lines
+    strip = np.asarray(shown)[320:].reshape(-1, 3)
+    colours = {tuple(c) for c in strip}
+    items = legend_items(result)
+    assert all(colour in colours for colour, _ in items)
+    assert items[0][1] == {"ridge": "centre lines", "grey": "traced boundaries", "binary": "skeleton"}[method]

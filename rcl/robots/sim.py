@@ -128,11 +128,13 @@ class SimRobot(Robot):
         self.log.append(("halt",))
 
     def save_plot(self, path: str) -> None:
-        """A PNG of the T5 path: top view (x, y) and side view (x, z), base coordinates."""
+        """A PNG of the T5 path: top view (x, y) and side view (x, z), base coordinates, each
+        motion numbered and coloured by kind."""
         from .plot import plot_path
 
-        points = [fk(self.model, q)[:3, 3] for m in self.trajectory for q in m.path]
-        plot_path(points, path, f"{self.model.name}: {len(self.trajectory)} motions, {self.clock:.1f} s")
+        motions = [(m.kind, np.array([fk(self.model, q)[:3, 3] for q in m.path])) for m in self.trajectory]
+        plot_path(motions, path, f"{self.model.name}: {len(self.trajectory)} motions, {self.clock:.1f} s "
+                                 "(T5, the flange, in base coordinates)")
 
 
 def _joint_vector(model: ArmModel, joints: Sequence[float]) -> list[float]:

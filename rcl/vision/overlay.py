@@ -16,8 +16,9 @@ W_Y = (0, 200, 0)
 GRIP = (255, 0, 255)  # WG^: the fingers close across the wire at the grasp point
 
 
-def draw(image: np.ndarray, result, arrow_px: float | None = None):
-    """A Pillow RGB image of `image` with the result of find_wires drawn on it."""
+def draw(image: np.ndarray, result, arrow_px: float | None = None, legend: bool = True):
+    """A Pillow RGB image of `image` with the result of find_wires drawn on it, and below it
+    (unless legend is False) a strip that says what each colour is."""
     from PIL import Image, ImageDraw
 
     grey = as_grey(image)
@@ -58,7 +59,45 @@ def draw(image: np.ndarray, result, arrow_px: float | None = None):
         pen.line([(gu - math.cos(t) * half * 0.5, gv - math.sin(t) * half * 0.5),
                   (gu + math.cos(t) * half * 0.5, gv + math.sin(t) * half * 0.5)], fill=GRIP, width=1)
         _ring(pen, s.grasp, 5, GRIP)
-    return picture
+    return _with_legend(picture, result) if legend else picture
+
+
+def legend_items(result) -> list[tuple[tuple, str]]:
+    """(colour, words) for each thing an overlay of this result draws."""
+    from .binary import BinaryResult
+    from .grey import GreyResult
+
+    seen = ("skeleton" if isinstance(result, BinaryResult) else "traced boundaries"
+            if isinstance(result, GreyResult) else "centre lines")
+    return [(SKELETON, seen), (CANDIDATE, "other free ends and grasps"),
+            (W_Z, "chosen end: W's Z, along the wire"), (W_Y, "W's Y"),
+            (GRIP, "grasp: the fingers close across")]
+
+
+def _with_legend(picture, result):
+    """The picture with a dark strip below it naming each colour (wrapped to its width)."""
+    from PIL import Image, ImageDraw, ImageFont
+
+    font = ImageFont.load_default(size=11)
+    w, h = picture.size
+    measure = ImageDraw.Draw(picture)
+    rows, x = [[]], 4
+    for colour, words in legend_items(result):
+        width = 18 + int(measure.textlength(words, font=font)) + 12
+        if x + width > w and rows[-1]:
+            rows.append([])
+            x = 4
+        rows[-1].append((x, colour, words))
+        x += width
+    out = Image.new("RGB", (w, h + 16 * len(rows) + 4), (24, 24, 24))
+    out.paste(picture, (0, 0))
+    pen = ImageDraw.Draw(out)
+    for i, row in enumerate(rows):
+        y = h + 3 + 16 * i
+        for x, colour, words in row:
+            pen.line([(x, y + 7), (x + 14, y + 7)], fill=colour, width=3)
+            pen.text((x + 18, y), words, fill=(235, 235, 235), font=font)
+    return out
 
 
 def _ring(pen, at, r: float, colour) -> None:
