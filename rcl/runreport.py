@@ -35,7 +35,15 @@ class RunWatcher:
         r = self.cell.summary()
         r["sensing_ms"] = [round(k.ms, 3) for k in self.looks]
         r["looks"] = len(self.looks)
+        r["camera_grabs"] = self.cell.camera.grabs  # the looks and the calibration's images
+        for f in r["failures"]:  # numbered as the pictures: the look it followed (0: none yet)
+            f["look"] = self.look_number(f["look"])
         return r
+
+    def look_number(self, grab: int) -> int:
+        """The number of the look (as the pictures number them) that the camera's grab-th image
+        was, or the last one before it: calibration images are not looks."""
+        return sum(1 for k in self.looks if k.number <= grab)
 
     def summary_line(self, r: dict) -> Optional[str]:
         if not self.looks and not r["attempts"]:

@@ -2,7 +2,9 @@
 
 GRIPPED asks the arm (a backend with a gripper sensor has gripped()); CRIMP,
 TINNED, SHAKE and TRAYEMPTY ask the session's cell, which has the press, the
-bath, the tray's vibrator and the load cell under the tray.
+bath, the tray's vibrator and the load cell under the tray; WIRENO and FAILURE
+give its number of the wire last taken and its words for what failed last, so a
+program's output numbers and words things as the cell's pictures and report do.
 """
 from __future__ import annotations
 
@@ -47,9 +49,22 @@ def trayempty(ctx) -> bool:
     return len(_cell(ctx, "TRAYEMPTY", "load cell under its tray").tray) == 0
 
 
+def wireno(ctx) -> int:
+    """WIRENO(): the cell's number of the wire the fingers' last close on the tray took (0 when
+    it took none): the number its pictures and report give that wire."""
+    return _cell(ctx, "WIRENO", "numbered wires").last_taken or 0
+
+
+def failure(ctx) -> str:
+    """FAILURE(): the cell's words for what failed last ('' when nothing has): the words its
+    pictures and report use, e.g. 'pick failed: wire 6 slipped out of the fingers ...'."""
+    return _cell(ctx, "FAILURE", "record of failures").last_failure
+
+
 def shake(ctx) -> None:
     """SHAKE(): vibrate the tray so the wires settle anew (when no end is free to take)."""
     _cell(ctx, "SHAKE", "tray vibrator").shake()
 
 
-BUILTINS = {"GRIPPED": gripped, "CRIMP": crimp, "TINNED": tinned, "SHAKE": shake, "TRAYEMPTY": trayempty}
+BUILTINS = {"GRIPPED": gripped, "CRIMP": crimp, "TINNED": tinned, "SHAKE": shake, "TRAYEMPTY": trayempty,
+            "WIRENO": wireno, "FAILURE": failure}

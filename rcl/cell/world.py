@@ -92,7 +92,7 @@ class Held:
 
 @dataclass
 class Event:
-    what: str  # pick, slip, press, bath, release, shake
+    what: str  # pick (a slip on the way up is a failed pick too), press, bath, release, shake
     ok: bool
     wire: Optional[int]
     look: int  # the number of the image the task looked at last (1-based; 0: none yet)
@@ -149,6 +149,8 @@ class SimCell:
         self.held: Optional[Held] = None
         self.attempts = 0
         self.events: list[Event] = []
+        self.last_taken: Optional[int] = None  # the wire the fingers' last close on the tray took
+        self.last_failure = ""  # what failed last, in the words of the events
         self.results: dict[int, str] = {}  # wire -> crimped, tinned, rejected, lost
 
     @property
@@ -175,6 +177,8 @@ class SimCell:
     def _event(self, what: str, ok: bool, wire: Optional[int], why: str = "") -> Event:
         e = Event(what, ok, wire, self.camera.grabs, why, self.arm.inner.clock)
         self.events.append(e)
+        if not ok:
+            self.last_failure = f"{what} failed: {why}"
         return e
 
     # The camera ---------------------------------------------------------------------
@@ -209,6 +213,7 @@ class SimCell:
         touches = self.tray.nearest(p)  # every wire, nearest first
         nearest = touches[0] if touches and touches[0].distance <= 6.0 else None
         why = self._grasp(t, p, height, touches)
+        self.last_taken = None if why else self.held.wire
         if why:
             event = self._event("pick", False, nearest.wire if nearest else None, why)
             if height <= self.g["height_mm"]:
@@ -266,7 +271,7 @@ class SimCell:
             return
         h.carried = True
         if self.rng.random() < self.g["drop_rate"]:
-            self._fall("slip", "slipped out of the fingers")
+            self._fall("pick", "slipped out of the fingers")
 
     def _fall(self, what: str, how: str) -> None:
         """The held wire falls: onto the tray if it is over it, else out of the cell."""
