@@ -15,9 +15,10 @@ from .types import NAMED
 
 
 def _builtin_names() -> list[str]:
-    from .builtins import camera, core, motion, vision
+    """Every built-in's name, from the one table the checker and the interpreter use."""
+    from .builtins import default_builtins
 
-    return [n for module in (core, motion, vision, camera) for n in module.BUILTINS]
+    return [b.name for b in default_builtins().values()]
 
 
 class RclLexer(RegexLexer):
@@ -46,7 +47,7 @@ class RclLexer(RegexLexer):
             (words(tuple(n.upper() for n in NAMED), prefix=r"\b", suffix=r"\b"), Keyword.Type),
             (words(tuple(n for n in _builtin_names() if not n.endswith("^")), prefix=r"\b", suffix=r"\b(?!\^)"),
              Name.Builtin),
-            (r"HERE\^", Name.Builtin),
+            (r"\b(?:" + "|".join(re.escape(n) for n in _builtin_names() if n.endswith("^")) + r")", Name.Builtin),
             (r"[a-z][a-z0-9_]*\^", Name.Variable.Instance),  # frame names
             (r"[a-z][a-z0-9_]*", Name),
             (r":=|<>|<=|>=|->|\.\.|[=<>+\-*/^]", Operator),

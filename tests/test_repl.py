@@ -160,3 +160,25 @@ def test_a_failed_input_declares_nothing():
     assert lines[3] == "x : INTEGER = 1"  # y, whose assignment failed, is not there
     assert lines[4] == "text"  # so y may be a STRING now
     assert lines[-1] == "5"  # what a failed input did to a variable it did not declare stays
+
+
+def test_every_built_in_is_highlighted_as_one():
+    """The lexer takes its built-ins from the table the checker uses: the cell's (CRIMP,
+    GRIPPED, WIRENO) were missing when it kept a list of its own."""
+    from pygments.token import Name
+
+    from rcl.builtins import default_builtins
+    from rcl.highlight import RclLexer
+
+    from rcl.keywords import keywords
+    from rcl.types import NAMED
+
+    lexer = RclLexer()
+    reserved = {k.upper() for k in keywords()} | {n.upper() for n in NAMED}  # FRAME(...) shows as the type
+    for b in default_builtins().values():
+        if b.name.upper() in reserved:
+            continue
+        for spelling in (b.name, b.name.lower()):
+            tokens = [(t, v) for t, v in lexer.get_tokens(f"x := {spelling}") if v.strip()]
+            assert tokens[-1] == (Name.Builtin, spelling), (spelling, tokens)
+    assert [t for t, v in lexer.get_tokens("W^ := x") if v.strip()][0] == Name.Variable.Instance
