@@ -35,11 +35,10 @@ from typing import Optional
 import numpy as np
 
 from ..camera.images import as_grey
-from .common import FRAME_MARGIN_MM, Clock, block_average, conductor_tip, principal_direction, tray_level
+from .common import (FINGER_CLEARANCE_MM, FRAME_MARGIN_MM, GRASP_MM, Clock, block_average, block_centre, conductor_tip,
+                     principal_direction, tray_level)
 from .sighting import Sighting
 
-GRASP_MM = 15.0
-FINGER_CLEARANCE_MM = 4.0
 SPUR_MM = 3.0
 EDGE_FACTOR = 4.0
 TANGENT_PX = 4  # the paper takes +-2 skeletal points; at ~1 mm per pixel that quantises to tens of degrees
@@ -186,7 +185,7 @@ def find_wires_binary(image: np.ndarray, px_per_mm: float = 4.0) -> BinaryResult
     result.skeleton = skeleton
     clock("prune")
     mm = k / px_per_mm  # mm per averaged pixel
-    looks = _Looks(grey, t, dark)
+    looks = _FullImage(grey, t, dark)
     result.candidates = _analyse(skeleton, mask, mm, k, looks, px_per_mm)
     clock("analyse")
     result.timings["total"] = sum(result.timings.values())
@@ -238,7 +237,7 @@ def _prune_spurs(skeleton: np.ndarray, length: int) -> np.ndarray:
     return sk
 
 
-class _Looks:
+class _FullImage:
     """The full-resolution image, to place a wire's end exactly (the averaged image is ~1 mm/px)."""
 
     def __init__(self, grey: np.ndarray, threshold: float, dark: bool) -> None:
@@ -303,7 +302,7 @@ class _Looks:
         return best, inside
 
 
-def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _Looks,
+def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _FullImage,
              px_per_mm: float) -> list[Sighting]:
     h, w = skeleton.shape
     need = int(math.ceil((GRASP_MM + 3.0) / mm))
@@ -435,5 +434,5 @@ def _clearance(mask: np.ndarray, at: tuple[int, int], tangent_deg: float, reach:
 
 
 def _to_input(col: float, row: float, k: int) -> tuple[float, float]:
-    """An averaged pixel's centre in input pixel coordinates."""
-    return ((col + 0.5) * k - 0.5, (row + 0.5) * k - 0.5)
+    """An averaged pixel's centre as input (u, v)."""
+    return (block_centre(col, k), block_centre(row, k))

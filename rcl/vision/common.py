@@ -9,6 +9,16 @@ import numpy as np
 FRAME_MARGIN_MM = 3.0  # an end, or the wire near it, this close to the frame's edge may be cut by it
 
 
+GRASP_MM = 15.0  # the grasp point's distance from the wire's end, along the wire (every finder, the ground truth)
+FINGER_CLEARANCE_MM = 4.0  # room the fingers need round the grasp point
+
+
+def block_centre(x, k: int):
+    """An averaged pixel's centre (a column or a row of block_average(., k), or an array of
+    them) in the input image's pixel coordinates."""
+    return (np.asarray(x, float) + 0.5) * k - 0.5 if not np.isscalar(x) else (x + 0.5) * k - 0.5
+
+
 def block_average(grey: np.ndarray, k: int) -> np.ndarray:
     """The mean of each k x k block (float32); a partial block at an edge is dropped. A colour
     image (rows, cols, channels) is averaged channel by channel."""

@@ -45,10 +45,9 @@ from typing import Optional
 import numpy as np
 
 from ..camera.images import as_grey
-from .common import Clock, block_average, conductor_tip, principal_direction, tray_level
+from .common import GRASP_MM, Clock, block_average, block_centre, conductor_tip, principal_direction, tray_level
 from .sighting import Sighting
 
-GRASP_MM = 15.0
 SPAN_MM = 20.0  # the length of wire, from the end, that must be free (grasp point + 5 mm)
 CLEARANCE_MM = 4.5  # from the wire's centre to any other wire, at the grasp point: room for the fingers
 FREE_MM = 0.5  # free tray needed beside the rest of the span (past the edge response), and beyond the end
@@ -56,7 +55,6 @@ WORK_PX_PER_MM = 2.0  # the working image's scale for a 512 image at 4 px/mm
 SEGMENT = 20  # units (working px at 2 px/mm) of boundary in the wire-end heuristic
 GAP = 5  # at most this far apart, the segment's two end points
 END_TURN_TOL = 40.0  # degrees from an exact reversal that still count as one
-MAX_TURN = 1  # Freeman steps (45 degrees) the trace may turn per step
 ENOUGH = 3  # free ends to find before the search stops
 EDGE_NOISE_FACTOR = 3.5  # edge threshold, in units of the noise's edge magnitude
 SHADOW_EDGE = 0.2  # beside a wire, an edge fainter than this part of its own, going on away from its level, is its shadow
@@ -553,4 +551,4 @@ def _runs(idx: np.ndarray) -> list[np.ndarray]:
 def _to_input(pts: np.ndarray, k: int) -> np.ndarray:
     """Working (row, col) points -> input (u, v) pixel coordinates."""
     pts = np.asarray(pts, float)
-    return np.column_stack([(pts[:, 1] + 0.5) * k - 0.5, (pts[:, 0] + 0.5) * k - 0.5])
+    return np.column_stack([block_centre(pts[:, 1], k), block_centre(pts[:, 0], k)])

@@ -46,10 +46,9 @@ from functools import lru_cache
 import numpy as np
 
 from ..camera.images import ImageError
-from .common import FRAME_MARGIN_MM, Clock, block_average, principal_direction
+from .common import FRAME_MARGIN_MM, GRASP_MM, Clock, block_average, principal_direction
 from .sighting import Sighting
 
-GRASP_MM = 15.0  # the grasp point's distance from the tip, along the wire
 SPAN_MM = 20.0  # wire that must be free from the tip: the grasp point and 5 mm beyond
 CLEARANCE_MM = 4.6  # free board round the grasp point, from the centre line: the fingers' room
 SIDE_FREE_MM = 0.9  # free board beside the wire's edges along the span and beyond its tip

@@ -15,9 +15,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .common import FINGER_CLEARANCE_MM, GRASP_MM  # the ground truth's, as every finder's
+
 KINDS = ("sparse", "crossing", "low_contrast", "bright_on_dark", "stripped", "colour", "edge")
-GRASP_MM = 15.0  # the grasp point lies this far from the end, along the wire
-FINGER_CLEARANCE_MM = 4.0  # room the fingers need on either side of the wire at the grasp point
 END_MARGIN_MM = 3.0  # an end this close to the image border counts as cut by it
 TOUCH_MM = 0.5  # wires closer than this, edge to edge, touch: taking one drags the other
 
