@@ -28,7 +28,6 @@ from .solve import SolveError, solve
 MAX_PASSES = 64
 MAX_ARRAY_ELEMENTS = 10_000_000
 MAX_SUGGESTIONS = 20  # unknown names per pass of the checker that get a "did you mean"
-INT_MAX = 2**63 - 1
 
 
 class Checker:
@@ -602,9 +601,9 @@ class Checker:
         return t
 
     def expr_Integer(self, e: A.Integer) -> T.Type:
-        if len(e.text) > 19 or int(e.text) > INT_MAX:
+        if len(e.text) > 19 or int(e.text) > T.INT_MAX:
             self.error(e.span, f"integer {e.text[:30]}{'...' if len(e.text) > 30 else ''} is too large "
-                               f"(an INTEGER is at most {INT_MAX}); write it as a REAL")
+                               f"(an INTEGER is at most {T.INT_MAX}); write it as a REAL")
         return T.INTEGER
 
     def expr_Real(self, e: A.Real) -> T.Type:

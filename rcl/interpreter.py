@@ -22,13 +22,13 @@ from .errors import BuiltinError, RclCancelled, RclRuntimeError, StackEntry
 from .files import Files
 from .frame import Frame, FrameError
 from .scope import GlobalScope, Routine, Variable
+from .types import INT_MAX, INT_MIN  # bound here: read on every INTEGER operation
 from .values import default_factory
 
 RETURN = "return"  # what a statement closure gives when a RETURN ran
 MAX_CALL_DEPTH = 1000
 MAX_STRING = 16 * 1024 * 1024  # characters in one STRING
 MAX_LIVE_ELEMENTS = 20_000_000  # elements in the local arrays of all the routines running at once
-INT_MIN, INT_MAX = -(2**63), 2**63 - 1
 USER_FACING = (BuiltinError, FrameError, ArithmeticError)
 
 _FIELD_COLUMN = {"n": 0, "o": 1, "a": 2, "p": 3}

@@ -74,6 +74,7 @@ class _Special(Type):
 
 
 INTEGER = Prim("INTEGER")
+INT_MIN, INT_MAX = -(2**63), 2**63 - 1  # an INTEGER's range: a literal past it is a static error, a result past it a runtime one
 REAL = Prim("REAL")
 BOOLEAN = Prim("BOOLEAN")
 STRING = Prim("STRING")

@@ -7,6 +7,7 @@ from typing import Annotated
 from ..errors import BuiltinError
 from ..frame import Frame, FrameError
 from ..robots import RobotError
+from ..robots.base import checked_speed
 from ..types import Var
 from ..values import Array
 
@@ -48,9 +49,8 @@ def moves(ctx, t5: BaseToT5) -> None:
 
 def speed(ctx, percent: float) -> None:
     """SPEED(percent): the speed of later motions, 1 to 100 percent of the maximum."""
-    if not 1.0 <= percent <= 100.0:
-        raise BuiltinError(f"SPEED takes 1 to 100 percent, not {percent:g}")
-    _do(_robot(ctx).speed, percent)
+    robot = _robot(ctx)
+    _do(lambda: robot.speed(checked_speed(percent)))  # checked here too: for any backend
 
 
 def open_(ctx) -> None:

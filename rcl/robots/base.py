@@ -11,6 +11,13 @@ class RobotError(Exception):
     """A motion the arm cannot or must not make, or a fault of the arm itself."""
 
 
+def checked_speed(percent: float) -> float:
+    """A speed as every backend and SPEED take it, in percent of the maximum: 1 to 100."""
+    if not 1.0 <= percent <= 100.0:
+        raise RobotError(f"SPEED takes 1 to 100 percent, not {percent:g}")
+    return float(percent)
+
+
 class Robot(ABC):
     """A manipulator with a gripper.
 

@@ -10,7 +10,7 @@ from typing import Sequence
 
 import numpy as np
 
-from .base import Robot, RobotError
+from .base import Robot, RobotError, checked_speed
 
 HOME_POSE = np.array([[1.0, 0.0, 0.0, 300.0],
                       [0.0, -1.0, 0.0, 0.0],
@@ -65,7 +65,7 @@ class RecordingArm(Robot):
         self.log.append(("close",))
 
     def speed(self, percent: float) -> None:
-        self.speed_percent = float(percent)
+        self.speed_percent = checked_speed(percent)
         self.log.append(("speed", self.speed_percent))
 
     def delay(self, seconds: float) -> None:

@@ -13,7 +13,7 @@ from typing import Sequence, Type
 
 import numpy as np
 
-from .base import Robot, RobotError
+from .base import Robot, RobotError, checked_speed
 from .kinematics import ArmModel, fk, load_model, solve
 from .planner import Planner
 from .ssc32 import SSC32, Driver
@@ -96,9 +96,7 @@ class SerialRobot(Robot):
         self.driver.wait(self.model.gripper_seconds)
 
     def speed(self, percent: float) -> None:
-        if not 1.0 <= percent <= 100.0:
-            raise RobotError(f"speed must be 1 to 100 percent, not {percent:g}")
-        self.speed_percent = float(percent)
+        self.speed_percent = checked_speed(percent)
 
     def delay(self, seconds: float) -> None:
         if self._stop.wait(seconds):

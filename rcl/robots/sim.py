@@ -18,9 +18,10 @@ from typing import Sequence
 
 import numpy as np
 
-from .base import Robot, RobotError
+from .base import Robot, RobotError, checked_speed
 from .kinematics import ArmModel, fk, load_model, solve
 from .planner import Planner
+
 
 @dataclass
 class Motion:
@@ -110,9 +111,7 @@ class SimRobot(Robot):
         self.log.append(("close",))
 
     def speed(self, percent: float) -> None:
-        if not 1.0 <= percent <= 100.0:
-            raise RobotError(f"speed must be 1 to 100 percent, not {percent:g}")
-        self.speed_percent = float(percent)
+        self.speed_percent = checked_speed(percent)
         self.log.append(("speed", self.speed_percent))
 
     def delay(self, seconds: float) -> None:

@@ -35,8 +35,17 @@ from typing import Optional
 import numpy as np
 
 from ..camera.images import as_grey
-from .common import (FINGER_CLEARANCE_MM, FRAME_MARGIN_MM, GRASP_MM, Clock, block_average, block_centre, conductor_tip,
-                     principal_direction, tray_level)
+from .common import (
+    FINGER_CLEARANCE_MM,
+    FRAME_MARGIN_MM,
+    GRASP_MM,
+    Clock,
+    block_average,
+    block_centre,
+    conductor_tip,
+    principal_direction,
+    tray_level,
+)
 from .sighting import Sighting
 
 SPUR_MM = 3.0
