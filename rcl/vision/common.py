@@ -16,7 +16,7 @@ FINGER_CLEARANCE_MM = 4.0  # room the fingers need round the grasp point
 def block_centre(x, k: int):
     """An averaged pixel's centre (a column or a row of block_average(., k), or an array of
     them) in the input image's pixel coordinates."""
-    return (np.asarray(x, float) + 0.5) * k - 0.5 if not np.isscalar(x) else (x + 0.5) * k - 0.5
+    return (x + 0.5) * k - 0.5
 
 
 def block_average(grey: np.ndarray, k: int) -> np.ndarray:

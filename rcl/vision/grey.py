@@ -459,8 +459,7 @@ class _Looks:
         if (span_pts.min() < margin or span_pts[:, 0].max() > h - 1 - margin or span_pts[:, 1].max() > w - 1 - margin
                 or min(end_rc) < margin or end_rc[0] > h - 1 - margin or end_rc[1] > w - 1 - margin):
             return self._no("too near the border")
-        h2, w2 = self.mag.shape
-        side_pts = np.clip(np.round(np.vstack([fwd, bwd])).astype(int), 0, [h2 - 1, w2 - 1])
+        side_pts = np.clip(np.round(np.vstack([fwd, bwd])).astype(int), 0, [h - 1, w - 1])
         own = float(np.median(self.mag[side_pts[:, 0], side_pts[:, 1]]))
         clearance = self._clearance(span_pts, arc, w0, end_rc, inward, own if dark else -own)
         if clearance is None:
