@@ -9,6 +9,7 @@ from .sighting import Sighting
 
 METHODS = ("ridge", "grey", "binary")
 DEFAULT_METHOD = "ridge"
+MIDDLE = "middle"  # not an end finder: where to take a wire by its middle (ridge.find_middle)
 
 
 class VisionError(ValueError):
@@ -30,6 +31,10 @@ def load(method: str):
         from .grey import find_wires_grey
 
         return find_wires_grey
+    if method == MIDDLE:
+        from .ridge import find_middle
+
+        return find_middle
     raise VisionError(f"unknown method {method!r} (one of {', '.join(METHODS)})")
 
 
@@ -43,4 +48,4 @@ def find_wires(image, method: str = DEFAULT_METHOD, px_per_mm: float = 4.0):
     return load(method)(image, px_per_mm)
 
 
-__all__ = ["DEFAULT_METHOD", "METHODS", "Sighting", "VisionError", "find_wires", "load"]
+__all__ = ["DEFAULT_METHOD", "METHODS", "MIDDLE", "Sighting", "VisionError", "find_wires", "load"]

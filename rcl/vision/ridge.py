@@ -96,10 +96,17 @@ RIM_MIN_MM = 1.5  # ... at least this wide
 RIM_SEGMENT_MM = 8.0  # ... in segments of the side this long: each its own profile (a median across it)
 RIM_BOARD_MM = 3.0  # ... against this much board next to it
 RIM_STEP = 0.03  # ... differing from the board by this much (0-1 colour)
+RIM_BOARD_LOW, RIM_BOARD_HIGH = 20, 80  # ... whose spread is judged between these percentiles
 RIM_CLEAR = 4.0  # ... this many times more than the band or the board varies
 RIM_SHARE = 0.6  # ... along this share of the side's segments
 RIM_BEND_PX = 1.5  # ... on one smooth curve (a lens bows a straight rim) to within this
 RIM_EDGE_MM = 1.0  # the blur of a rim's edge: samples this near it say nothing of what lies round an end
+MIDDLE_AWAY_MM = 8.0  # a middle grasp: this far from every crossing of the centre lines
+MIDDLE_END_MM = 15.0  # ... and this far (straight) from every end of them: the wire is held by its middle (along a loop, 20 mm or more)
+MIDDLE_THROUGH = 0.8  # ... its line runs on this share of the way out of the disc round it, both ways
+MIDDLE_BOW = 0.5  # ... bowing from its tangent there by no more than this share of that
+MIDDLE_STEP_MM = 3.0  # ... tried at points this far apart
+MIDDLE_MAX = 60  # ... at most this many
 ENOUGH = 4  # free ends to find before the search stops (0: all); the roomiest is taken
 
 _COS_CONE = math.cos(math.radians(GAP_CONE_DEG))
@@ -422,29 +429,8 @@ def thin_sparse(mask: np.ndarray) -> np.ndarray:
 
 def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = ENOUGH) -> RidgeResult:
     """Graspable wire ends in an image (grey or colour) at px_per_mm, best first."""
-    result = RidgeResult()
-    clock = Clock(result.timings)
-    began = clock.last
-    work, k = working_image(image, px_per_mm)
-    wppm = px_per_mm / k
-    result.scale = k
-    clock("average")
-    outside = find_rim(work, wppm)
-    clock("rim")
-    con = contrast(work, wppm, outside)
-    f = con.f
-    clock("contrast")
-    flat = SATURATION * np.tanh(f * (1.0 / SATURATION))  # a wire's body, not its highlight, makes the ridge
-    strength, smoothed, which, fine = ridges(flat, wppm)
-    clock("ridges")
-    skeleton = centre_lines(strength, smoothed, which, wppm)
-    clock("centre lines")
-    graph = _Graph(skeleton, wppm)
-    graph.prune_spurs()
-    result.skeleton = graph.skeleton
-    clock("graph")
-    reader = _EndReader(con, flat, fine, graph, wppm, k, result, outside)
-    ordered = graph.ends_in_order(f)
+    result, clock, began, graph, reader = _look(image, px_per_mm)
+    ordered = graph.ends_in_order(reader.f)
     for end in graph.short:
         reader.refuse(graph.rc(int(end)), "its line meets another or stops within 20 mm")
     for end in ordered:
@@ -457,6 +443,46 @@ def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = EN
     clock("ends")
     result.timings["total"] = (clock.last - began) * 1000.0
     return result
+
+
+def find_middle(image: np.ndarray, px_per_mm: float = 4.0) -> RidgeResult:
+    """Places to take a wire by its middle, best first: for a wire none of whose ends is free
+    (a loop that crosses itself near both ends, say), to lift it and let it fall in a new
+    shape. Each Sighting's end and grasp are the same point on a centre line, MIDDLE_AWAY_MM
+    from every crossing (so on top) and MIDDLE_END_MM from every end of the centre lines, with the CLEARANCE_MM disc round it free (room for the fingers); end_angle and
+    grasp_angle are the line's direction there. The roomiest comes first."""
+    result, clock, began, graph, reader = _look(image, px_per_mm)
+    result.candidates = [s for s in (reader.middle(p) for p in graph.middles()) if s is not None]
+    result.candidates.sort(key=lambda s: -s.score)
+    clock("middles")
+    result.timings["total"] = (clock.last - began) * 1000.0
+    return result
+
+
+def _look(image: np.ndarray, px_per_mm: float):
+    """The stages before ends are read: (result, clock, start time, the wire graph, its reader)."""
+    result = RidgeResult()
+    clock = Clock(result.timings)
+    began = clock.last
+    work, k = working_image(image, px_per_mm)
+    wppm = px_per_mm / k
+    result.scale = k
+    clock("average")
+    outside = find_rim(work, wppm)
+    clock("rim")
+    con = contrast(work, wppm, outside)
+    clock("contrast")
+    flat = SATURATION * np.tanh(con.f * (1.0 / SATURATION))  # a wire's body, not its highlight, makes the ridge
+    strength, smoothed, which, fine = ridges(flat, wppm)
+    clock("ridges")
+    skeleton = centre_lines(strength, smoothed, which, wppm)
+    clock("centre lines")
+    graph = _Graph(skeleton, wppm)
+    graph.prune_spurs()
+    result.skeleton = graph.skeleton
+    clock("graph")
+    reader = _EndReader(con, flat, fine, graph, wppm, k, result, outside)
+    return result, clock, began, graph, reader
 
 
 def find_rim(work: np.ndarray, wppm: float) -> np.ndarray:
@@ -499,7 +525,7 @@ def find_rim(work: np.ndarray, wppm: float) -> np.ndarray:
 def _steps(prof: np.ndarray, kmin: int, board: int, gap: int) -> np.ndarray:
     """Per segment's profile (nseg, depth, channels) from the frame's edge inward: where an even
     band from the edge (its first k columns) gives way, across a blurred edge `gap` columns
-    wide, to an even board of another colour; NaN where it does not."""
+    wide, to a board of another colour, even for the most part; NaN where it does not."""
     from scipy import ndimage
 
     nseg, d, _ = prof.shape
@@ -510,13 +536,18 @@ def _steps(prof: np.ndarray, kmin: int, board: int, gap: int) -> np.ndarray:
     hi = np.maximum.accumulate(prof, axis=1)[:, ks - 1]
     lo = np.minimum.accumulate(prof, axis=1)[:, ks - 1]
     band_spread = np.maximum(hi - band, band - lo).max(axis=2)
-    pad = np.concatenate([prof, np.repeat(prof[:, -1:], 3 * board, axis=1)], axis=1)
-    cs = np.concatenate([np.zeros_like(pad[:, :1]), np.cumsum(pad, axis=1)], axis=1)
-    b = (cs[:, ks + gap + board] - cs[:, ks + gap]) / board  # the board next to it: (nseg, K, channels)
-    # the most and least over the 3 * board columns from ks + gap (the filters centre their window)
-    most = ndimage.maximum_filter1d(pad, 3 * board, axis=1, origin=-(3 * board // 2))[:, ks + gap]
-    least = ndimage.minimum_filter1d(pad, 3 * board, axis=1, origin=-(3 * board // 2))[:, ks + gap]
-    board_spread = np.maximum(most - b, b - least).max(axis=2)
+    wide = 3 * board
+    pad = np.concatenate([prof, np.repeat(prof[:, -1:], wide, axis=1)], axis=1)
+    # the board next to it, over the `wide` columns from ks + gap (the filters centre their
+    # window): its median, and how far its RIM_BOARD_LOW and RIM_BOARD_HIGH percentiles lie
+    # from that (a wire or a speck there, or the board's grain, does not hide the edge)
+    def over_board(filt, **kw):
+        return filt(pad, size=(1, wide, 1), origin=(0, -(wide // 2), 0), **kw)[:, ks + gap]
+
+    b = over_board(ndimage.median_filter)  # (nseg, K, channels)
+    high = over_board(ndimage.percentile_filter, percentile=RIM_BOARD_HIGH)
+    low = over_board(ndimage.percentile_filter, percentile=RIM_BOARD_LOW)
+    board_spread = np.maximum(high - b, b - low).max(axis=2)
     step = np.abs(band - b).max(axis=2)
     score = step / np.maximum(np.maximum(band_spread, board_spread), 0.01)
     score = np.where((step >= RIM_STEP) & (score >= RIM_CLEAR), score, 0.0)
@@ -642,6 +673,41 @@ class _Graph:
             keep = (dist >= 1.5) & (dist <= reach)
             self._window = (rr[keep], cc[keep], dist[keep])
         return self._window
+
+    def middles(self) -> list[np.ndarray]:
+        """Points (row, col) on lines MIN_LINE_MM long or more, MIDDLE_END_MM or more from every
+        end of those lines and MIDDLE_AWAY_MM from every crossing, MIDDLE_STEP_MM apart at least, farthest from them
+        (relative to those distances) first."""
+        from scipy import ndimage
+
+        grid = self.skeleton.astype(bool)
+        if not grid.any():
+            return []
+        deg = self.degree.reshape(self.h + 2, self.W)[1:-1, 1:-1]
+
+        def distance(marks):
+            return ndimage.distance_transform_edt(~marks) if marks.any() else np.full(grid.shape, np.inf)
+
+        # the ends and crossings of lines MIN_LINE_MM long or more (a speck of the board's
+        # texture leaves a short line whose ends are no wire's)
+        pieces, n = ndimage.label(grid, np.ones((3, 3)))
+        size = np.bincount(pieces.ravel(), minlength=n + 1)
+        size[0] = 0
+        lines = size[pieces] >= MIN_LINE_MM * self.wppm
+        from_end = distance(lines & (deg <= 1)) / (MIDDLE_END_MM * self.wppm)
+        from_crossing = distance(lines & (deg >= 3)) / (MIDDLE_AWAY_MM * self.wppm)
+        away = np.minimum(from_end, from_crossing)
+        rr, cc = np.nonzero(lines & (away >= 1.0))
+        order = np.argsort(-away[rr, cc], kind="stable")
+        pts = np.column_stack([rr[order], cc[order]]).astype(float)
+        step2 = (MIDDLE_STEP_MM * self.wppm) ** 2
+        kept: list[np.ndarray] = []
+        for p in pts:
+            if all(float(((p - q) ** 2).sum()) >= step2 for q in kept):
+                kept.append(p)
+                if len(kept) >= MIDDLE_MAX:
+                    break
+        return kept
 
     def ends_in_order(self, f: np.ndarray) -> list[int]:
         """The ends worth reading, best first: those whose line runs on for at least SPAN_MM
@@ -811,6 +877,48 @@ class _EndReader:
         clutter = self.clutter(span, tip, out, width, board)
         grasp = self.centred(grasp, tangent, width)
         return self.sighting(on_axis, inward, grasp, tangent, 1.0 / (1.0 + clutter))
+
+    def middle(self, p: np.ndarray):
+        """A Sighting to take the wire by its middle at centre-line point p, or None (refused)."""
+        mm = self.wppm
+        border = FRAME_MARGIN_MM * mm
+        reach = (CLEARANCE_MM + 2.0) * mm
+        if min(p[0], p[1], self.h - 1 - p[0], self.w - 1 - p[1]) < reach or self.off_tray(p[None, :], reach)[0]:
+            return None  # the disc for the fingers would run off the frame or the tray
+        skel = self.g.skeleton
+        r0, c0 = int(p[0]), int(p[1])
+        rad = int(math.ceil(reach))
+        win = skel[r0 - rad:r0 + rad + 1, c0 - rad:c0 + rad + 1]
+        from scipy import ndimage
+
+        pieces, _ = ndimage.label(win, np.ones((3, 3)))
+        own = np.column_stack(np.nonzero(pieces == pieces[rad, rad])).astype(float) + (p - rad)
+        near = own[((own - p) ** 2).sum(axis=1) <= (TANGENT_MM * mm) ** 2]
+        if len(near) < 3:
+            return None
+        tangent = principal_direction(near)
+        # the local centre line through p, ordered along the tangent: it must run on through the
+        # disc round p both ways and bend no more than a wire does (a small thing's outline, a
+        # printed line's broken grid does not)
+        along = (own - p) @ tangent
+        across = np.abs((own - p) @ np.array([-tangent[1], tangent[0]]))
+        if along.min() > -MIDDLE_THROUGH * reach or along.max() < MIDDLE_THROUGH * reach \
+                or across.max() > MIDDLE_BOW * reach:
+            return None
+        line = own[np.argsort(along)]
+        level = float(np.median(self.sample(line)))
+        board = max(BOARD_FLOOR, BOARD_SHARE * level)
+        width = self.width(line, board)
+        disc = _disc(CLEARANCE_MM * mm) + p
+        d2 = ((disc * disc).sum(axis=1)[:, None] + (own * own).sum(axis=1)[None, :] - 2.0 * disc @ own.T).min(axis=1)
+        disc = disc[d2 > (width / 2 + 0.6 * SIDE_FREE_MM * mm) ** 2]
+        seen = self._seen(disc)
+        if np.count_nonzero(seen >= board) >= DISC_HITS or np.any(self.off_tray(disc, 0.0)):
+            return None
+        if p[0] < border or p[1] < border:
+            return None
+        room = float(np.percentile(seen, ROOM_PERCENTILE)) / board if len(seen) else 0.0
+        return self.sighting(p, tangent, p, tangent, 1.0 / (1.0 + room))
 
     def casts_shadow(self, line: np.ndarray, width: float) -> bool:
         """Whether the wire casts a shadow that can be told from it: its own centre line does not
