@@ -125,5 +125,7 @@ def _outcome(e) -> str:
     wire = f"wire {e.wire}" if e.wire is not None else ""
     if e.ok:
         return {"pick": f"{wire} taken", "press": f"{wire} crimped", "bath": f"{wire} tinned",
-                "release": f"{wire} done", "shake": "tray shaken"}.get(e.what, e.what)
+                "release": f"{wire} done", "shake": "tray shaken",
+                "drop": f"{wire} dropped by its middle: it lies in a new shape",
+                "putback": f"{wire} laid back on the tray"}.get(e.what, e.what)
     return f"{e.what} failed: {e.why}"

@@ -54,7 +54,7 @@ class Session:
         """robot: a rcl.robots.Robot (default: a SimRobot of the smartarms model); camera: anything with
         grab() -> image array, such as rcl.camera.ImageFiles (default: none);
         camera_model: a rcl.camera.Calibration (default: a new, empty one);
-        wire_finder: f(image, method) -> rcl.vision.Sighting | None for FINDWIRE (method 'ridge'), GREYWIRE and BINWIRE
+        wire_finder: f(image, method) -> rcl.vision.Sighting | None for FINDWIRE (method 'ridge'), GREYWIRE, BINWIRE and FINDMIDDLE ('middle')
         (default: the paper's systems, rcl.vision.find_wires);
         out: where WRITE goes (default: sys.stdout); step_budget: stop a run after this many
         loop iterations and routine calls; search_path: extra folders for IMPORT;

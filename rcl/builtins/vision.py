@@ -82,9 +82,14 @@ def findwire(ctx, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
     return _find(ctx, "ridge", w, wg, "FINDWIRE")
 
 
+def findmiddle(ctx, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
+    """FINDMIDDLE(VAR W^, VAR WG^): look for a place to take a wire by its middle, 20 mm or more from its ends and 8 mm from any crossing, with room for the fingers (for a wire none of whose ends is free: lift it and let it fall in a new shape); TRUE sets W^ there (Z along the wire) and WG^ the grasp at W^'s origin, FALSE if there is none."""
+    return _find(ctx, "middle", w, wg, "FINDMIDDLE")
+
+
 def greywire(ctx, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
     """GREYWIRE(VAR W^, VAR WG^): look with the grey-scale pipeline; TRUE sets W^ and WG^, FALSE if no graspable end."""
     return _find(ctx, "grey", w, wg, "GREYWIRE")
 
 
-BUILTINS = {"FINDWIRE": findwire, "BINWIRE": binwire, "GREYWIRE": greywire}
+BUILTINS = {"FINDWIRE": findwire, "BINWIRE": binwire, "GREYWIRE": greywire, "FINDMIDDLE": findmiddle}

@@ -22,6 +22,9 @@ from ..vision import scenes
 from ..vision.synth import Wire, resample
 
 PICTURE_PX_PER_MM = 4.0  # the tray picture the camera looks at; the camera resamples it
+DRAPE_SPLAY = 0.6  # a dropped wire's halves fall this far (radians, sd) from opposite ways ...
+DRAPE_CURVE = 0.01  # ... each with a steady bend of this (radians per 0.5 mm, sd) ...
+DRAPE_BEND = 0.03  # ... and this much random turning per 0.5 mm
 
 
 @dataclass
@@ -103,6 +106,21 @@ class WireTray:
         if number not in self.looks:  # a wire new to the tray: it looks like the others
             self.looks[number] = scenes.wire_look(self.rng, self.scene)
         self._changed(number)
+
+    def drape(self, number: int, wire: Wire, at, arc: float) -> None:
+        """A wire that hung from the fingers by a point `arc` mm along it, let go at tray point
+        `at`: its two halves fall from there, each in a gentle random curve (DRAPE_BEND), in
+        directions about opposite, and it lies on top of the others in that new shape (a loop
+        it had is gone)."""
+        length = float(np.sum(np.linalg.norm(np.diff(wire.centre, axis=0), axis=1)))
+        heading = self.rng.uniform(0.0, 2 * math.pi)
+        halves = []
+        for run, head in ((arc, heading), (length - arc, heading + math.pi + self.rng.normal(0.0, DRAPE_SPLAY))):
+            steps = max(int(round(run / 0.5)), 1)
+            turns = head + np.cumsum(self.rng.normal(self.rng.normal(0.0, DRAPE_CURVE), DRAPE_BEND, steps))
+            halves.append(np.cumsum(0.5 * np.column_stack([np.cos(turns), np.sin(turns)]), axis=0))
+        centre = np.vstack([halves[0][::-1], [[0.0, 0.0]], halves[1]]) + np.asarray(at, float)[:2]
+        self.put(number, self.kept_on(centre), wire)
 
     def nudge(self, p, radius: float, push_mm: float, turn_deg: float) -> list[int]:
         """The wires passing within radius of p pushed aside (fingers closing on the wrong spot)."""

@@ -54,6 +54,7 @@ PICK_BELOW_MM = 50.0  # closing the fingers lower than this over the tray is a p
 NOMINAL_GRASP_MM = 15.0  # how far from the end a station's frame assumes the wire is held
 RELEASE_ON_TRAY_BELOW_MM = 80.0
 SHAKE_SECONDS = 2.0
+MIDDLE_HOLD_MM = 20.0  # a wire held this far or more from both its ends hangs from the fingers
 
 
 class Inaccuracy:
@@ -92,7 +93,7 @@ class Held:
 
 @dataclass
 class Event:
-    what: str  # pick (a slip on the way up is a failed pick too), press, bath, release, shake
+    what: str  # pick (a slip on the way up is a failed pick too), press, bath, release, putback, drop, shake
     ok: bool
     wire: Optional[int]
     look: int  # the number of the image the task looked at last (1-based; 0: none yet)
@@ -273,14 +274,23 @@ class SimCell:
         if self.rng.random() < self.g["drop_rate"]:
             self._fall("pick", "slipped out of the fingers")
 
-    def _fall(self, what: str, how: str) -> None:
-        """The held wire falls: onto the tray if it is over it, else out of the cell."""
+    def _fall(self, what: str, how: str, meant: bool = False) -> None:
+        """The held wire falls: onto the tray if it is over it, else out of the cell. meant: it
+        was let go there on purpose (laid back to be taken afresh), which is no failure."""
         h = self.held
         self.held = None
         pts = self.tray.to_tray(self.held_points(h))
         if self.tray.inside(pts.mean(axis=0)):
+            held_at = _held_at(h)
+            if held_at is not None:  # held by its middle, it hung from the fingers: it lands anew
+                self.tray.drape(h.wire, h.body, pts[held_at], held_at * 0.25)
+                self._event("drop", True, h.wire)
+                return
             self.tray.put(h.wire, self.tray.kept_on(pts[::2]), h.body)
-            self._event(what, False, h.wire, f"wire {h.wire} {how} and fell back on the tray")
+            if meant:
+                self._event("putback", True, h.wire)
+            else:
+                self._event(what, False, h.wire, f"wire {h.wire} {how} and fell back on the tray")
         else:
             self.results[h.wire] = "lost"
             self._event(what, False, h.wire, f"wire {h.wire} {how} and fell off the tray")
@@ -292,7 +302,7 @@ class SimCell:
         t = self.tool()
         p = self.tray.to_tray(t[:3, 3])
         if self.tray.inside(p) and t[2, 3] - self.tray_z < RELEASE_ON_TRAY_BELOW_MM:
-            self._fall("release", "was let go over the tray")
+            self._fall("release", "was let go over the tray", meant=True)
             return
         self.held = None
         if h.crimped or h.tinned:
@@ -395,6 +405,14 @@ class SimCell:
             "failures": [e.as_dict() for e in self.events if not e.ok],
             "robot_time_s": round(float(self.arm.inner.clock), 3),
         }
+
+
+def _held_at(h: Held) -> Optional[int]:
+    """Where along its centre line (index of the 0.25 mm samples) the fingers hold the wire,
+    if that is MIDDLE_HOLD_MM or more from both its ends (it hangs from there), else None."""
+    i = int(np.argmin(np.linalg.norm(h.shape[:3].T, axis=1)))
+    n = h.shape.shape[1]
+    return i if min(i, n - 1 - i) * 0.25 >= MIDDLE_HOLD_MM else None
 
 
 def _angle_deg(u: np.ndarray, v: np.ndarray, sign: bool = True) -> float:
