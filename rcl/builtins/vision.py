@@ -83,7 +83,7 @@ def findwire(ctx, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
 
 
 def findmiddle(ctx, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
-    """FINDMIDDLE(VAR W^, VAR WG^): look for a place to take a wire by its middle, 20 mm or more from its ends and 8 mm from any crossing, with room for the fingers (for a wire none of whose ends is free: lift it and let it fall in a new shape); TRUE sets W^ there (Z along the wire) and WG^ the grasp at W^'s origin, FALSE if there is none."""
+    """FINDMIDDLE(VAR W^, VAR WG^): look for a place to take a wire by its middle, 15 mm or more from the ends of the lines seen and 8 mm from any crossing, with room for the fingers (for a wire none of whose ends is free: lift it and let it fall in a new shape); TRUE sets W^ there (Z along the wire) and WG^ the grasp at W^'s origin, FALSE if there is none."""
     return _find(ctx, "middle", w, wg, "FINDMIDDLE")
 
 
