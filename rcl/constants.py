@@ -53,8 +53,7 @@ def fold(e: A.Expr, name: Callable[[A.Name], tuple], typed: Callable, error: Cal
         if e.op in ("DIV", "MOD"):
             if not both_int:
                 raise NotConstant
-            q = abs(a) // abs(b) * (1 if (a >= 0) == (b >= 0) else -1)
-            return (q if e.op == "DIV" else a - q * b), T.INTEGER
+            return (T.int_div(a, b) if e.op == "DIV" else T.int_mod(a, b)), T.INTEGER
         value = {"+": a + b, "-": a - b, "*": a * b}[e.op]
         return value, T.INTEGER if both_int else T.REAL
     raise NotConstant

@@ -659,18 +659,14 @@ class Compiler:
                 return x / y
             return run
 
-        def quotient(x: int, y: int) -> int:
+        whole = T.int_div if op == "DIV" else T.int_mod
+
+        def run_whole(fr):
+            x, y = a(fr), b(fr)
             if y == 0:
                 raise make("division by zero", span)
-            q = abs(x) // abs(y)
-            return q if (x < 0) == (y < 0) else -q
-        if op == "DIV":
-            return self._checked(lambda fr: quotient(a(fr), b(fr)), span)
-
-        def modulo(fr):
-            x, y = a(fr), b(fr)
-            return x - quotient(x, y) * y  # the sign of the dividend, as x = (x DIV y) * y + x MOD y
-        return modulo
+            return whole(x, y)
+        return self._checked(run_whole, span) if op == "DIV" else run_whole
 
 
 def _message(e: Exception) -> str:
