@@ -32,6 +32,7 @@ from .errors import Diagnostic, RclCancelled, RclError, RclRuntimeError, RclStat
 from .files import Files
 from .frame import Frame, FrameError
 from .interpreter import Compiler, Context
+from .keywords import is_name
 from .loader import describe_read_error, load, read_source
 from .robots import SimRobot
 from .scope import GlobalScope, Routine
@@ -191,7 +192,7 @@ class Session:
                 raise TypeError(f"{name} is not a frame name: only names ending in ^ hold frames")
             if name.endswith("^") and not T.contains_frame(t):
                 raise TypeError(f"{name} is a frame name; it can only hold a frame")
-            if not _is_identifier(name):
+            if not is_name(name):
                 raise ValueError(f"{name!r} is not an RCL name")
             v = self._scope.new_global(name, t, declared=True)
             self._values.append(None)
@@ -365,12 +366,6 @@ def _no_gc_pauses():
     finally:
         if was_on:
             gc.enable()
-
-
-def _is_identifier(name: str) -> bool:
-    body = name[:-1] if name.endswith("^") else name
-    return bool(body) and body[0].isascii() and body[0].isalpha() and all(
-        c.isascii() and (c.isalnum() or c == "_") for c in body)
 
 
 def _infer_type(value: Any) -> T.Type:

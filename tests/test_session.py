@@ -53,6 +53,9 @@ def test_set_variables_from_python_and_use_them():
         s["speed"] = "fast"
     s["speed"] = 3  # an INTEGER into a REAL variable
     assert s["speed"] == 3.0 and isinstance(s["speed"], float)
+    for bad in ("1x", "x-y", "_x", "\u017fx", "a^b"):  # names as the grammar's NAME and FRAMENAME have them
+        with pytest.raises(ValueError, match="not an RCL name"):
+            s[bad] = 1
 
 
 def test_register_a_python_function_as_a_typed_builtin():

@@ -17,6 +17,7 @@ from typing import Any, Optional
 import numpy as np
 
 from ..frame import Frame
+from ..keywords import is_name
 from ..vision import MAX_PX_PER_MM, MIN_PX_PER_MM
 from ..vision.scenes import SLICES
 
@@ -220,8 +221,7 @@ def _check(data: dict, source: str) -> None:
         if name not in data["frames"]:
             fail(f"frames.{name} is missing")
     for name in data["frames"]:
-        if not (name[:1].isascii() and name[:1].isalpha() and all(c.isascii() and (c.isalnum() or c == "_")
-                                                                     for c in name)):
+        if not is_name(name) or name.endswith("^"):
             fail(f"frames.{name}: a frame's name must be an RCL name (letters, digits, _)")
         if not np.all(np.isfinite(np.array(data["frames"][name]["xyz"] + data["frames"][name]["rpy"]))):
             fail(f"frames.{name}: xyz and rpy must be finite")
