@@ -64,7 +64,7 @@ class NamedType(TypeExpr):
 
 @dataclass(eq=False)
 class FrameTypeExpr(TypeExpr):
-    refs: Optional[tuple[str, str]]  # (from, to) as written, or None
+    refs: Optional[tuple[str, str]]  # (from, to) in lower case (types.parse_refs), or None
 
 
 @dataclass(eq=False)

@@ -202,7 +202,7 @@ class Checker:
         if isinstance(texpr, A.FrameTypeExpr):
             if texpr.refs is None:
                 return T.FRAME
-            return T.FrameType(texpr.refs[0].lower(), texpr.refs[1].lower())
+            return T.FrameType(*texpr.refs)
         if isinstance(texpr, A.NamedType):
             t = T.NAMED.get(texpr.name.key)
             if t is None:

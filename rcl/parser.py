@@ -16,6 +16,7 @@ from lark import Token, Transformer
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from . import ast as A
+from . import types as T
 from .errors import Diagnostic, RclStaticError, source_line, source_lines
 from .resources import grammar_path
 
@@ -264,8 +265,8 @@ class _ToAst(Transformer):
     def frame_type(self, c):
         refs = None
         if len(c) > 1:
-            left, _, right = str(c[1]).partition("->")
-            refs = (left.strip(), right.strip())
+            t = T.parse_refs(str(c[1]))
+            refs = (t.src, t.dst)
         return A.FrameTypeExpr(refs, span=_covering(c))
 
     def named_type(self, c):
