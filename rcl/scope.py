@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 from typing import Any, Optional
 
 from .ast import RoutineDecl, Span
-from .types import Type
+from .types import ParamInfo, Type
 
 
 @dataclass(eq=False)
@@ -28,13 +28,6 @@ class Variable:
     filename: str = ""
     span: Optional[Span] = None
     origin: Any = None  # the statement that declared it (so later passes know it again)
-
-
-@dataclass(eq=False)
-class ParamInfo:
-    name: str
-    type: Type
-    by_ref: bool
 
 
 @dataclass(eq=False)

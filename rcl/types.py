@@ -178,6 +178,16 @@ def inverse(t: FrameType) -> FrameType:
     return FrameType(t.dst, t.src)
 
 
+@dataclass(frozen=True)
+class ParamInfo:
+    """A routine's parameter as callers see it: a built-in's (from its annotations) or one
+    written in RCL (from its declaration)."""
+
+    name: str
+    type: Type
+    by_ref: bool
+
+
 def parse_refs(text: str) -> FrameType:
     left, _, right = text.partition("->")
     return FrameType(left.strip().lower() or None, right.strip().lower() or None)

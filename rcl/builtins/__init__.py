@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any, Callable, Optional
 
-from ..types import INTEGER, NUMBER, REAL, Type, from_annotation, is_frame
+from ..types import INTEGER, NUMBER, REAL, ParamInfo, Type, from_annotation, is_frame
 
 
 class Ref:
@@ -33,20 +33,13 @@ class Ref:
         self.c[self.i] = value
 
 
-@dataclass(frozen=True)
-class BuiltinParam:
-    name: str
-    type: Type
-    by_ref: bool
-
-
 @dataclass(eq=False)
 class Builtin:
     """A routine implemented in Python."""
 
     name: str
     func: Callable
-    params: tuple[BuiltinParam, ...]
+    params: tuple[ParamInfo, ...]
     result: Optional[Type]  # None: a procedure
     variadic: Optional[Type]  # the type of any further arguments, or None
     wants_ctx: bool
@@ -56,7 +49,7 @@ class Builtin:
     def from_function(cls, name: str, func: Callable) -> Builtin:
         """Read the RCL signature off a Python function's annotations."""
         hints = typing.get_type_hints(func, include_extras=True)
-        params: list[BuiltinParam] = []
+        params: list[ParamInfo] = []
         variadic = None
         wants_ctx = False
         for i, p in enumerate(inspect.signature(func).parameters.values()):
@@ -69,7 +62,7 @@ class Builtin:
             if p.kind is inspect.Parameter.VAR_POSITIONAL:
                 variadic = typ
             elif p.kind in (inspect.Parameter.POSITIONAL_ONLY, inspect.Parameter.POSITIONAL_OR_KEYWORD):
-                params.append(BuiltinParam(p.name, typ, by_ref))
+                params.append(ParamInfo(p.name, typ, by_ref))
             else:
                 raise TypeError(f"built-in {name}: parameter {p.name} must be positional")
         ret = hints.get("return", type(None))
