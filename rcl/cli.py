@@ -19,9 +19,8 @@ from pathlib import Path
 from typing import Optional, Sequence
 
 from . import __version__
-from .errors import RclCancelled, RclRuntimeError, RclStaticError
+from .errors import EXIT_INTERRUPTED, EXIT_OK, EXIT_RUNTIME, EXIT_STATIC, RclCancelled, RclRuntimeError, RclStaticError, report
 
-EXIT_OK, EXIT_RUNTIME, EXIT_STATIC, EXIT_INTERRUPTED = 0, 1, 2, 130
 CTRL_C_GRACE_S = 0.5  # after Ctrl-C, how long a program has to reach a statement where it can stop
 
 
@@ -290,11 +289,8 @@ def _run_session(session, args, source: Optional[str] = None) -> int:
         return _fail(f"rcl: error: {e}", EXIT_STATIC)
     except RclStaticError as e:
         return _report_static(e)
-    except RclRuntimeError as e:
-        return _fail(e.render(), EXIT_RUNTIME)
-    except RclCancelled as e:
-        code = EXIT_INTERRUPTED if e.by_user else EXIT_RUNTIME
-        return _fail(e.render() + "\nthe robot was halted", code)
+    except (RclRuntimeError, RclCancelled) as e:
+        return _fail(*report(e))
     except RclInternalError as e:
         if os.environ.get("RCL_DEBUG"):
             raise
@@ -438,8 +434,7 @@ def _calib_apply(args) -> int:
 
 
 def _report_static(e: RclStaticError) -> int:
-    for d in e.diagnostics:
-        print(d.render(), file=sys.stderr)
+    print(report(e)[0], file=sys.stderr)
     n = len(e.diagnostics)
     print(f"{n} error{'s' if n != 1 else ''}; nothing was run", file=sys.stderr)
     return EXIT_STATIC

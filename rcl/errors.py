@@ -135,6 +135,22 @@ class RclCancelled(RclError):
                 + render_stack(self.stack))
 
 
+EXIT_OK, EXIT_RUNTIME, EXIT_STATIC, EXIT_INTERRUPTED = 0, 1, 2, 130  # rcl's exit statuses
+
+
+def report(e: RclError) -> tuple[str, int]:
+    """What a person is shown for an RCL error, and the exit status it means: a static error's
+    diagnostics (2), a runtime error (1), a stopped run with the robot halted (130 when the
+    user stopped it, else 1), anything else as `error: ...` (2: nothing ran)."""
+    if isinstance(e, RclStaticError):
+        return "\n".join(d.render() for d in e.diagnostics), EXIT_STATIC
+    if isinstance(e, RclCancelled):
+        return f"{e.render()}\nthe robot was halted", EXIT_INTERRUPTED if e.by_user else EXIT_RUNTIME
+    if isinstance(e, RclRuntimeError):
+        return e.render(), EXIT_RUNTIME
+    return f"error: {e}", EXIT_STATIC
+
+
 class BuiltinError(Exception):
     """Raised by a built-in's Python code for a user-facing failure (IK, limits, bad argument).
 

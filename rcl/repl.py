@@ -18,7 +18,7 @@ from typing import Callable, Optional, TextIO
 
 import numpy as np
 
-from .errors import RclCancelled, RclRuntimeError, RclStaticError
+from .errors import RclCancelled, RclRuntimeError, RclStaticError, report
 from .frame import Frame
 from .keywords import keywords
 from .parser import needs_more_input, parse_expression
@@ -139,14 +139,9 @@ class Repl:
             value, rcl_type = self.interruptible(lambda: self.session.evaluate(stripped, "<stdin>"))
             if rcl_type is not None:
                 self.say(show(value))
-        except RclStaticError as e:
-            self.failed(2, "\n".join(d.render() for d in e.diagnostics))
-        except RclRuntimeError as e:
-            self.failed(1, e.render())
-        except RclCancelled as e:
-            self.failed(130 if e.by_user else 1, f"{e.render()}\nthe robot was halted")
-        except FileNotReadable as e:
-            self.failed(2, f"error: {e}")
+        except (RclStaticError, RclRuntimeError, RclCancelled, FileNotReadable) as e:
+            text, code = report(e)
+            self.failed(code, text)
         return True
 
     def failed(self, status: int, message: str) -> None:
@@ -229,8 +224,7 @@ class Repl:
                 t = self.session.type_of(arg)
                 self.say(t if t is not None else "no value: a procedure call")
             except RclStaticError as e:
-                for d in e.diagnostics:
-                    self.say(d.render())
+                self.say(report(e)[0])
         elif name == ":load":
             if not arg:
                 self.say("usage: :load FILE")
@@ -238,7 +232,7 @@ class Repl:
                 try:
                     self.interruptible(lambda: self.session.run_file(arg))
                 except (RclStaticError, RclRuntimeError, RclCancelled, FileNotReadable) as e:
-                    self.say(_render(e))
+                    self.say(report(e)[0])
         elif name == ":vars":
             for line in self.variables():
                 self.say(line)
@@ -401,14 +395,7 @@ def show(value, short: bool = False) -> str:
     return format_value(value)
 
 
-def _render(e: Exception) -> str:
-    if isinstance(e, RclStaticError):
-        return "\n".join(d.render() for d in e.diagnostics)
-    if isinstance(e, RclCancelled):
-        return f"{e.render()}\nthe robot was halted"
-    if isinstance(e, RclRuntimeError):
-        return e.render()
-    return f"error: {e}"
+
 
 
 def history_path() -> Optional[Path]:
