@@ -227,7 +227,12 @@ def _run(args) -> int:
         watcher = RunWatcher(cell.sim, session) if cell.sim is not None else None
         code = _run_session(session, args)
         if watcher is not None and code != EXIT_STATIC:
-            code = watcher.finish(args.report, args.pictures, args.frames) or code
+            line, problems = watcher.finish(args.report, args.pictures, args.frames)
+            if line:
+                print(line, flush=True)
+            for problem in problems:
+                print(problem, file=sys.stderr)
+            code = (EXIT_RUNTIME if problems else EXIT_OK) or code
         return code
     return _with_setup(args, body)
 

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 import statistics
-import sys
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Optional
@@ -58,28 +57,25 @@ class RunWatcher:
                 f"{r['attempts']} picks tried, {len(r['failures'])} failures; "
                 f"robot time {r['robot_time_s']:.1f} s{vision}")
 
-    def finish(self, report_path: Optional[str], pictures: Optional[str], frames: Optional[str] = None) -> int:
-        """Print the summary, write what was asked for; 1 if something could not be written."""
+    def finish(self, report_path: Optional[str], pictures: Optional[str],
+               frames: Optional[str] = None) -> tuple[Optional[str], list[str]]:
+        """Write what was asked for: (the summary line, or None without a cell run; what could not
+        be written, each as `rcl: error: ...`). The caller shows them."""
         r = self.report()
-        line = self.summary_line(r)
-        if line:
-            print(line, flush=True)
-        status = 0
+        problems = []
         if report_path:
             try:
                 Path(report_path).write_text(json.dumps(r, indent=2) + "\n")
             except OSError as e:
-                print(f"rcl: error: --report: cannot write {report_path}: {e.strerror or e}", file=sys.stderr)
-                status = 1
+                problems.append(f"rcl: error: --report: cannot write {report_path}: {e.strerror or e}")
         for option, folder, write in (("--pictures", pictures, self.write_pictures),
                                        ("--frames", frames, self.write_frames)):
             if folder:
                 try:
                     write(Path(folder))
                 except OSError as e:
-                    print(f"rcl: error: {option}: cannot write into {folder}: {e.strerror or e}", file=sys.stderr)
-                    status = 1
-        return status
+                    problems.append(f"rcl: error: {option}: cannot write into {folder}: {e.strerror or e}")
+        return self.summary_line(r), problems
 
     def write_frames(self, folder: Path) -> None:
         """Each look's camera image as the finder got it, frame-NNN.png (NNN: the look's number, as
