@@ -449,8 +449,9 @@ def find_middle(image: np.ndarray, px_per_mm: float = 4.0) -> RidgeResult:
     """Places to take a wire by its middle, best first: for a wire none of whose ends is free
     (a loop that crosses itself near both ends, say), to lift it and let it fall in a new
     shape. Each Sighting's end and grasp are the same point on a centre line, MIDDLE_AWAY_MM
-    from every crossing (so on top) and MIDDLE_END_MM from every end of the centre lines, with the CLEARANCE_MM disc round it free (room for the fingers); end_angle and
-    grasp_angle are the line's direction there. The roomiest comes first."""
+    from every crossing (so on top) and MIDDLE_END_MM from every end of the centre lines, with
+    the CLEARANCE_MM disc round it free (room for the fingers); end_angle and grasp_angle are
+    the line's direction there. The roomiest comes first."""
     result, clock, began, graph, reader = _look(image, px_per_mm)
     result.candidates = [s for s in (reader.middle(p) for p in graph.middles()) if s is not None]
     result.candidates.sort(key=lambda s: -s.score)
@@ -526,8 +527,6 @@ def _steps(prof: np.ndarray, kmin: int, board: int, gap: int) -> np.ndarray:
     """Per segment's profile (nseg, depth, channels) from the frame's edge inward: where an even
     band from the edge (its first k columns) gives way, across a blurred edge `gap` columns
     wide, to a board of another colour, even for the most part; NaN where it does not."""
-    from scipy import ndimage
-
     nseg, d, _ = prof.shape
     ks = np.arange(kmin, d - board - gap)
     if not len(ks):
@@ -538,10 +537,10 @@ def _steps(prof: np.ndarray, kmin: int, board: int, gap: int) -> np.ndarray:
     band_spread = np.maximum(hi - band, band - lo).max(axis=2)
     wide = 3 * board
     pad = np.concatenate([prof, np.repeat(prof[:, -1:], wide, axis=1)], axis=1)
-    # the board next to it, over the `wide` columns from ks + gap (the filters centre their
-    # window): its median, and how far its RIM_BOARD_LOW and RIM_BOARD_HIGH percentiles lie
-    # from that (a wire or a speck there, or the board's grain, does not hide the edge)
-    # (every other column of each window: the percentiles need no more, and they are the cost)
+    # the board next to it, over the `wide` columns from ks + gap: its median, and how far its
+    # RIM_BOARD_LOW and RIM_BOARD_HIGH percentiles lie from that (a wire or a speck there, or
+    # the board's grain, does not hide the edge); every other column of each window, as the
+    # percentiles need no more and they are the cost
     windows = np.lib.stride_tricks.sliding_window_view(pad, wide, axis=1)[:, ks + gap, :, ::2]  # (nseg, K, ch, wide/2)
     low, b, high = np.percentile(windows, (RIM_BOARD_LOW, 50, RIM_BOARD_HIGH), axis=3)  # each (nseg, K, ch)
     board_spread = np.maximum(high - b, b - low).max(axis=2)
@@ -673,8 +672,8 @@ class _Graph:
 
     def middles(self) -> list[np.ndarray]:
         """Points (row, col) on lines MIN_LINE_MM long or more, MIDDLE_END_MM or more from every
-        end of those lines and MIDDLE_AWAY_MM from every crossing, MIDDLE_STEP_MM apart at least, farthest from them
-        (relative to those distances) first."""
+        end of those lines and MIDDLE_AWAY_MM from every crossing, MIDDLE_STEP_MM apart at least,
+        farthest from them (relative to those distances) first."""
         from scipy import ndimage
 
         grid = self.skeleton.astype(bool)
@@ -699,11 +698,9 @@ class _Graph:
         pts = np.column_stack([rr[order], cc[order]]).astype(float)
         step2 = (MIDDLE_STEP_MM * self.wppm) ** 2
         kept: list[np.ndarray] = []
-        for p in pts:
-            if all(float(((p - q) ** 2).sum()) >= step2 for q in kept):
-                kept.append(p)
-                if len(kept) >= MIDDLE_MAX:
-                    break
+        while len(pts) and len(kept) < MIDDLE_MAX:  # the farthest left, then none near it
+            kept.append(pts[0])
+            pts = pts[((pts - pts[0]) ** 2).sum(axis=1) >= step2]
         return kept
 
     def ends_in_order(self, f: np.ndarray) -> list[int]:
@@ -878,8 +875,7 @@ class _EndReader:
     def middle(self, p: np.ndarray):
         """A Sighting to take the wire by its middle at centre-line point p, or None (refused)."""
         mm = self.wppm
-        border = FRAME_MARGIN_MM * mm
-        reach = (CLEARANCE_MM + 2.0) * mm
+        reach = (CLEARANCE_MM + 2.0) * mm  # past the fingers' disc (and so the frame's margin)
         if min(p[0], p[1], self.h - 1 - p[0], self.w - 1 - p[1]) < reach or self.off_tray(p[None, :], reach)[0]:
             return None  # the disc for the fingers would run off the frame or the tray
         skel = self.g.skeleton
@@ -906,13 +902,8 @@ class _EndReader:
         level = float(np.median(self.sample(line)))
         board = max(BOARD_FLOOR, BOARD_SHARE * level)
         width = self.width(line, board)
-        disc = _disc(CLEARANCE_MM * mm) + p
-        d2 = ((disc * disc).sum(axis=1)[:, None] + (own * own).sum(axis=1)[None, :] - 2.0 * disc @ own.T).min(axis=1)
-        disc = disc[d2 > (width / 2 + 0.6 * SIDE_FREE_MM * mm) ** 2]
-        seen = self._seen(disc)
-        if np.count_nonzero(seen >= board) >= DISC_HITS or np.any(self.off_tray(disc, 0.0)):
-            return None
-        if p[0] < border or p[1] < border:
+        seen = self._seen(self.fingers_room(p, own, width))
+        if np.count_nonzero(seen >= board) >= DISC_HITS:
             return None
         room = float(np.percentile(seen, ROOM_PERCENTILE)) / board if len(seen) else 0.0
         return self.sighting(p, tangent, p, tangent, 1.0 / (1.0 + room))
@@ -1047,13 +1038,20 @@ class _EndReader:
         dense = _resample(full, 1.0)
         ds = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))])
         along = ds <= (SPAN_MM + SPAN_SLACK_MM) * mm
-        disc = _disc(CLEARANCE_MM * mm) + grasp
         local = dense[np.abs(ds - GRASP_MM * mm) <= (CLEARANCE_MM + 3.0) * mm]
-        if len(local):
-            d2 = ((disc * disc).sum(axis=1)[:, None] + (local * local).sum(axis=1)[None, :]
-                  - 2.0 * disc @ local.T).min(axis=1)
-            disc = disc[d2 > (width / 2 + 0.6 * SIDE_FREE_MM * mm) ** 2]
+        disc = self.fingers_room(grasp, local, width)
         return dense[along], _normals(dense)[along], disc
+
+    def fingers_room(self, at: np.ndarray, line: np.ndarray, width: float) -> np.ndarray:
+        """The points of the CLEARANCE_MM disc round `at` less the wire itself: those farther
+        than its half width (and a little) from the centre-line points `line` near there."""
+        mm = self.wppm
+        disc = _disc(CLEARANCE_MM * mm) + at
+        if not len(line):
+            return disc
+        d2 = ((disc * disc).sum(axis=1)[:, None] + (line * line).sum(axis=1)[None, :]
+              - 2.0 * disc @ line.T).min(axis=1)
+        return disc[d2 > (width / 2 + 0.6 * SIDE_FREE_MM * mm) ** 2]
 
     def crowded(self, span, tip, out, width, board, level) -> str:
         """Why the wire near its end is not free (board must show around it), or ''."""
