@@ -395,9 +395,6 @@ def show(value, short: bool = False) -> str:
     return format_value(value)
 
 
-
-
-
 def history_path() -> Optional[Path]:
     """Where the history is kept: $RCL_HISTORY, else the XDG state folder; None if not writable."""
     if os.environ.get("RCL_HISTORY"):

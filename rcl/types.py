@@ -75,17 +75,6 @@ class _Special(Type):
 
 INTEGER = Prim("INTEGER")
 INT_MIN, INT_MAX = -(2**63), 2**63 - 1  # an INTEGER's range: a literal past it is a static error, a result past it a runtime one
-
-
-def int_div(x: int, y: int) -> int:
-    """x DIV y: the quotient truncated toward zero (y not 0)."""
-    q = abs(x) // abs(y)
-    return q if (x < 0) == (y < 0) else -q
-
-
-def int_mod(x: int, y: int) -> int:
-    """x MOD y: the remainder with the dividend's sign, so that x = (x DIV y) * y + x MOD y."""
-    return x - int_div(x, y) * y
 REAL = Prim("REAL")
 BOOLEAN = Prim("BOOLEAN")
 STRING = Prim("STRING")
@@ -97,6 +86,17 @@ PRINTABLE = _Special("any value")
 ANY_ARRAY = _Special("an array")
 
 NAMED = {"integer": INTEGER, "real": REAL, "boolean": BOOLEAN, "string": STRING, "vector": VECTOR}
+
+
+def int_div(x: int, y: int) -> int:
+    """x DIV y: the quotient truncated toward zero (y not 0)."""
+    q = abs(x) // abs(y)
+    return q if (x < 0) == (y < 0) else -q
+
+
+def int_mod(x: int, y: int) -> int:
+    """x MOD y: the remainder with the dividend's sign, so that x = (x DIV y) * y + x MOD y."""
+    return x - int_div(x, y) * y
 
 
 def is_frame(t: Type) -> bool:
