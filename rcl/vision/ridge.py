@@ -234,17 +234,24 @@ def bilinear(layers: np.ndarray, pts: np.ndarray) -> np.ndarray:
     """The values of a (rows, cols) or (rows, cols, layers) array at N (row, col) points,
     interpolated linearly: (N,) or (N, layers). Points outside take the nearest edge's values
     (as map_coordinates' mode nearest); one gather serves every layer."""
-    h, w = layers.shape[:2]
+    return _mix(layers, *_corners(layers.shape[0], layers.shape[1], pts))
+
+
+def _corners(h: int, w: int, pts: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For bilinear() on an h x w grid: each point's top-left neighbour (flat index) and its
+    fractional offsets from it (rows, cols); computed once, they serve several arrays."""
     r = np.clip(pts[:, 0], 0.0, h - 1.0)
     c = np.clip(pts[:, 1], 0.0, w - 1.0)
     r0 = np.minimum(r.astype(np.intp), h - 2)
     c0 = np.minimum(c.astype(np.intp), w - 2)
-    fr = (r - r0).astype(np.float32)
-    fc = (c - c0).astype(np.float32)
+    return r0 * w + c0, (r - r0).astype(np.float32), (c - c0).astype(np.float32)
+
+
+def _mix(layers: np.ndarray, i: np.ndarray, fr: np.ndarray, fc: np.ndarray) -> np.ndarray:
+    h, w = layers.shape[:2]
     flat = layers.reshape(h * w, -1) if layers.ndim == 3 else layers.reshape(-1)
     if layers.ndim == 3:
         fr, fc = fr[:, None], fc[:, None]
-    i = r0 * w + c0
     top = flat[i] * (1 - fc) + flat[i + 1] * fc
     bottom = flat[i + w] * (1 - fc) + flat[i + w + 1] * fc
     return top * (1 - fr) + bottom * fr
@@ -775,8 +782,9 @@ class _EndReader:
 
     def shade(self, pts: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(F, F with the board in shadow counted as board, which points look so) at the points."""
-        f = bilinear(self.f, pts)
-        free, shade = shadow_free(self.con, bilinear(self.con.work, pts), bilinear(self.con.board, pts), f)
+        at = _corners(self.h, self.w, pts)
+        f = _mix(self.f, *at)
+        free, shade = shadow_free(self.con, _mix(self.con.work, *at), _mix(self.con.board, *at), f)
         return f, free, shade
 
     def around(self, pts: np.ndarray) -> np.ndarray:
@@ -912,17 +920,19 @@ class _EndReader:
         """Whether the wire casts a shadow that can be told from it: its own centre line does not
         look like board in shadow, and the board along one side of it does, much more than along
         the other (a light from one side)."""
-        if float(self.shade(line)[2].mean()) >= SHADOW_LIKE_WIRE or len(line) < 5:
+        if len(line) < 5:
             return False
         n = _normals(line)
         offs = width / 2 + np.array([0.6, 1.0]) * self.wppm  # past the blur of the wire's edge
-        share = []
-        for sign in (-1.0, 1.0):
-            pts = (line[:, None, :] + sign * offs[None, :, None] * n[:, None, :]).reshape(-1, 2)
-            f, _, shade = self.shade(pts)
-            share.append(float((shade & (f >= BOARD_FLOOR)).mean()))
+        offs = np.concatenate([-offs, offs])  # one side, then the other
+        pts = (line[:, None, :] + offs[None, :, None] * n[:, None, :]).reshape(-1, 2)
+        f, _, shade = self.shade(np.vstack([line, pts]))
+        if float(shade[:len(line)].mean()) >= SHADOW_LIKE_WIRE:
+            return False
+        looks = (shade & (f >= BOARD_FLOOR))[len(line):].reshape(len(line), 2, 2)
+        share = looks.mean(axis=(0, 2))
         # a blurred edge looks like shadow on both sides alike
-        return max(share) >= SHADOW_SIDE and min(share) <= 0.5 * max(share)
+        return bool(share.max() >= SHADOW_SIDE and share.min() <= 0.5 * share.max())
 
     def conductor(self, end: np.ndarray, out: np.ndarray, width: float) -> np.ndarray:
         """The tip of a faint conductor or ferrule running on straight past the insulation's end
@@ -999,8 +1009,6 @@ class _EndReader:
     def width(self, line: np.ndarray, board: float) -> float:
         """The wire's width (working px): across it at five places, how far its contrast stands
         above the board (and above 0.4 of its peak) without a break, the median."""
-        from scipy import ndimage
-
         if len(line) < 8:
             return 2.0
         idx = np.linspace(len(line) // 4, len(line) - 2, 5).astype(int)
@@ -1015,19 +1023,18 @@ class _EndReader:
         above = prof >= np.maximum(0.4 * peak, board)
         # a break narrower than BRIDGE_MM is no edge: the specular line along a glossy wire (it may
         # be as light as the board), or a grain
-        bridge = np.ones((1, int(round(BRIDGE_MM * self.wppm / 0.5)) + 1), bool)
-        above = ndimage.binary_closing(above, structure=bridge)
-        widths = []
-        for row in above:
-            near = np.flatnonzero(row[mid - 3:mid + 4])
-            if not near.size:
-                continue
-            m = mid - 3 + int(near[np.argmin(np.abs(near - 3))])
-            gaps = np.flatnonzero(~row)
-            lo = gaps[gaps < m].max(initial=-1) + 1
-            hi = gaps[gaps > m].min(initial=len(row)) - 1
-            widths.append((hi - lo + 1) * 0.5)
-        return float(np.clip(np.median(widths), 1.0, 4.0 * self.wppm)) if widths else 2.0
+        above = _bridged(above, int(round(BRIDGE_MM * self.wppm / 0.5)))
+        # in each row, the run of `above` through the sample nearest the centre line that is in it
+        window = above[:, mid - 3:mid + 4]
+        seen = window.any(axis=1)
+        if not seen.any():
+            return 2.0
+        m = mid - 3 + np.argmin(np.where(window, np.abs(np.arange(7) - 3), 99), axis=1)[:, None]
+        at = np.arange(above.shape[1])[None, :]
+        lo = np.where(~above & (at < m), at, -1).max(axis=1) + 1
+        hi = np.where(~above & (at > m), at, above.shape[1]).min(axis=1) - 1
+        widths = (hi - lo + 1)[seen] * 0.5
+        return float(np.clip(np.median(widths), 1.0, 4.0 * self.wppm))
 
     def span(self, full, grasp, width) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """What the free test and the room round an end look beside: the centre line along the
@@ -1177,6 +1184,15 @@ def _disc_template(radius10: int) -> np.ndarray:
 def _disc(radius: float) -> np.ndarray:
     """Points 0.75 px apart filling a disc of the radius (px) round the origin."""
     return _disc_template(round(radius * 10))
+
+
+def _bridged(rows: np.ndarray, gap: int) -> np.ndarray:
+    """Each row with its runs of False no longer than gap, between two Trues, made True: a
+    binary closing along the rows (away from their ends)."""
+    at = np.arange(rows.shape[1])
+    before = np.maximum.accumulate(np.where(rows, at, -1), axis=1)
+    after = np.minimum.accumulate(np.where(rows, at, rows.shape[1])[:, ::-1], axis=1)[:, ::-1]
+    return rows | ((before >= 0) & (after < rows.shape[1]) & (after - before - 1 <= gap))
 
 
 def _normals(line: np.ndarray) -> np.ndarray:
