@@ -155,11 +155,11 @@ class _SetupError(Exception):
     """An option that names a camera or robot that cannot be had."""
 
 
-def _config(args):
+def _config(args, arm=None):
     from .cell import CellConfigError, load_config
 
     try:
-        return load_config(args.cell)
+        return load_config(args.cell, arm=None if args.cell else arm)
     except CellConfigError as e:
         raise _SetupError(f"rcl: error: --cell: {e}") from None
 
@@ -170,10 +170,14 @@ def _open_cell(args):
     from .robots import RobotError
     from .workcell import Cell, CellSetupError, open_cell
 
-    config = _config(args)
     option = "--cell"
+    config = _config(args)
     if args.model and not args.camera and args.robot == "sim" and config.simulated:
-        config.data["robot"]["model"] = args.model  # the simulated cell with that arm, if it reaches
+        # the simulated cell with that arm: the built-in one laid out for it, if one ships
+        if args.cell:
+            config.data["robot"]["model"] = args.model
+        else:
+            config = _config(args, arm=args.model)
         args.model, option = None, "--model"
     if args.camera or args.robot != "sim" or args.model:
         try:

@@ -12,9 +12,12 @@ the description names no warp file).
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Optional, Sequence
+
+import numpy as np
 
 from .cell import CellConfig, SimCell, load_config
 
@@ -75,14 +78,13 @@ def open_cell(path: str | Path | CellConfig | None = None, seed: int = 0,
 
 
 TRAY_MARGIN_MM, ABOVE_MM = 4.0, 30.0  # stdlib/wires.rcl: CALIBRATE's grid margin, CLEARANCE
+STATION_CLEARANCE_MM = 25.0  # stdlib/wires.rcl: STATION_CLEARANCE, where TOSTATION waits before going in
 
 
 def _check_reach(config: CellConfig, model) -> None:
     """Before anything moves: the arm must reach the tray's corners as the tasks go there (the
     calibration grid's, at the tray and CLEARANCE above it, the fingers pointing down), else
     CellSetupError names the corner and why."""
-    import numpy as np
-
     from .frame import Frame
     from .robots import RobotError
     from .robots.kinematics import solve
@@ -104,6 +106,59 @@ def _check_reach(config: CellConfig, model) -> None:
                         f"{config.source}: the {model.name} arm cannot reach the tray's corner "
                         f"({cx + dx:g}, {cy + dy:g}, {z:g}) mm: {e}. This cell is laid out for another arm: "
                         f"give a cell file laid out for {model.name} (--cell), or leave --model out") from None
+    for name in config.stations():
+        _check_station(config, model, name, q)
+
+
+def _check_station(config: CellConfig, model, name: str, q: list) -> None:
+    """The arm must bring a wire's end to the station as stdlib TOSTATION does (STATION_CLEARANCE
+    back along the wire, then in), holding a straight wire as FINDWIRE's grasp holds it either
+    way it may lie on the tray (the grasp's tangent is known only to within a half turn, so
+    the fingers take the wire one way or the other); else CellSetupError names the station."""
+    from .builtins.vision import wire_frames
+    from .frame import Frame
+    from .robots import RobotError
+    from .robots.kinematics import solve
+    from .vision import Sighting
+    from .vision.common import GRASP_MM
+
+    class Flat:  # a camera model seeing the tray 1 px a mm
+        @staticmethod
+        def warp(u, v):
+            return (u, v, 0.0)
+
+    base_inv, tool_inv = config.frame("Z").inv(), config.frame("E").inv()
+    station = config.frame(name)
+    for way, tangent in (("one way", 0.0), ("the other way", 180.0)):
+        _, grasp = wire_frames(Flat, Sighting((0.0, 0.0), 0.0, (GRASP_MM, 0.0), tangent))
+        for back in (STATION_CLEARANCE_MM, 0.0):
+            pose = _radial(base_inv * station * Frame.trans(0, 0, back) * grasp) * tool_inv
+            try:
+                solve(model, np.asarray(pose.matrix), q)
+            except RobotError as e:
+                x, y, z = config["frames"][name]["xyz"]
+                raise CellSetupError(
+                    f"{config.source}: the {model.name} arm cannot bring a wire's end to the station {name} "
+                    f"at ({x:g}, {y:g}, {z:g}) mm held {way} round (as the fingers may take it off the tray): "
+                    f"{e}. Give a cell file with {name} where the {model.name} arm reaches it (--cell)") from None
+
+
+def _radial(g):
+    """stdlib/frames.rcl RADIAL^: the tool pose g (base coordinates) turned about the vertical
+    through its origin until its approach points at or away from the base's Z axis."""
+    from .frame import Frame
+
+    m = np.asarray(g.matrix)
+    ax, ay = m[0, 2], m[1, 2]
+    px, py, pz = m[:3, 3]
+    if math.hypot(ax, ay) < 1e-9:
+        return g
+    turn = math.degrees(math.atan2(py, px) - math.atan2(ay, ax))
+    while turn > 90.0:
+        turn -= 180.0
+    while turn < -90.0:
+        turn += 180.0
+    return Frame.trans(px, py, pz) * Frame.rotz(turn) * Frame.trans(-px, -py, -pz) * g
 
 
 def cell_module(config: CellConfig) -> str:

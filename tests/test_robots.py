@@ -271,6 +271,14 @@ def test_cli_robot_options(tmp_path):
     r = rcl("run", str(program), "--model", "al5d")
     assert r.returncode == 2 and r.stdout == ""
     assert "--model: the built-in cell: the al5d arm cannot reach the tray's corner (290, -60, 0) mm" in r.stderr
+    # a cell file that brings the tray within the al5d's reach but not the press: refused, naming it
+    cell = tmp_path / "al5d.toml"
+    cell.write_text('[robot]\nmodel = "al5d"\n[tray]\ncentre = [210.0, 0.0]\n'
+                    '[frames.E]\nxyz = [0.0, 0.0, 0.0]\nrpy = [0.0, 0.0, 0.0]\n'
+                    '[frames.PRESS]\nxyz = [200.0, 180.0, 60.0]\nrpy = [0.0, -90.0, 0.0]\n')
+    r = rcl("run", str(program), "--cell", str(cell))
+    assert r.returncode == 2 and r.stdout == ""
+    assert "the al5d arm cannot bring a wire's end to the station PRESS at (200, 180, 60) mm" in r.stderr
     r = rcl("run", str(program), "--robot", "bogus")
     assert r.returncode == 2 and "unknown robot" in r.stderr
     r = rcl("run", str(program), "--model", "nosuch")
@@ -299,3 +307,34 @@ def test_realtime_sim_takes_the_time_and_halt_cuts_a_motion_short():
         r.jmove([-160, 60, -110, 50, 0])  # 169 degrees: almost 2 s, cut after 0.1 s
     assert time.monotonic() - t0 < 1.0
     assert -30 < r.joints()[0] < 9  # it stopped early on the way, where it was when halted
+
+
+def test_the_built_in_cell_is_laid_out_for_the_puma560():
+    # --model puma560 on the built-in cell: its layout (base on a pedestal 700 mm above the tray,
+    # the bath farther out), and the main job runs on it to the end
+    from rcl.cell import load_config
+    from rcl.workcell import open_cell
+
+    config = load_config(arm="puma560")
+    assert config.source == "the built-in cell laid out for puma560" and not config.from_file
+    assert config["robot"]["model"] == "puma560" and config.frame("Z").p[2] == 700.0
+    assert load_config(arm="al5d")["robot"]["model"] == "al5d"  # no layout ships: the arm alone
+    open_cell(config)  # reaches the tray and every station
+    r = rcl("run", "examples/crimp.rcl", "--model", "puma560", "--seed", "3")
+    assert r.returncode == 0, r.stderr
+    assert "crimped" in r.stdout and "the tray is empty" in r.stdout
+
+
+def test_station_check_turns_as_stdlib_radial_does():
+    # the up-front station check's RADIAL^ against stdlib/frames.rcl's own, on random poses
+    from rcl.workcell import _radial
+
+    s = Session()
+    s.run("IMPORT 'frames'")
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        roll, pitch, yaw = (float(v) for v in rng.uniform(-180, 180, 3))
+        x, y, z = (float(v) for v in rng.uniform(-400, 400, 3))
+        g = Frame.trans(x, y, z) * Frame.rotz(yaw) * Frame.roty(pitch) * Frame.rotx(roll)
+        want, _ = s.evaluate(f"RADIAL^(TRANS({x!r}, {y!r}, {z!r}) * ROTZ({yaw!r}) * ROTY({pitch!r}) * ROTX({roll!r}))")
+        assert np.allclose(np.asarray(_radial(g).matrix), np.asarray(want.matrix), atol=1e-9)

@@ -62,7 +62,7 @@ class CellConfig:
     @property
     def from_file(self) -> bool:
         """Whether a user's cell file was read (its folder holds the files it names)."""
-        return self.source != BUILT_IN
+        return not self.source.startswith(BUILT_IN)
 
     @property
     def warp(self) -> Optional[Path]:
@@ -99,11 +99,21 @@ class CellConfig:
         return float(cam["px_per_mm"]) or float(cam["width"]) / float(cam["fov_mm"])
 
 
-def load_config(path: str | Path | None = None) -> CellConfig:
-    """The built-in cell, or a user's file read over it; CellConfigError says what is wrong."""
+def load_config(path: str | Path | None = None, arm: str | None = None) -> CellConfig:
+    """The built-in cell, or a user's file read over it; CellConfigError says what is wrong.
+    Without a file, arm names the arm model the built-in cell should hold: the cell is then
+    laid out for that arm where a layout ships for it (sim-ARM.toml beside sim.toml, read over
+    it), else it is the built-in cell with that arm in it, which may not reach."""
     base = _read(DEFAULT)
     if path is None:
         data, source, folder = base, BUILT_IN, Path.cwd()
+        layout = DEFAULT.with_name(f"sim-{arm.lower()}.toml") if arm and is_name(arm) else None
+        if layout is not None and layout.is_file():
+            data = copy.deepcopy(base)
+            _merge(data, _read(layout), base, str(layout), "")
+            source = f"{BUILT_IN} laid out for {arm.lower()}"
+        elif arm:
+            data["robot"]["model"] = arm
     else:
         p = Path(path)
         source = str(p)
