@@ -18,3 +18,13 @@ def describe() -> str:
         commit = "unknown"
     return (f"machine: {platform.machine()}, {os.cpu_count()} cores, {platform.system()}, Python "
             f"{platform.python_version()}, numpy {np.__version__}; rcl at commit {commit}")
+
+
+def cached_env(**extra: str) -> dict:
+    """The environment for timing fresh `rcl` processes as an installed rcl starts: with Python's
+    compiled-bytecode cache written and used (pip compiles a wheel's modules when it installs
+    them; a checkout writes its __pycache__ on the first run), even where the shell sets
+    PYTHONDONTWRITEBYTECODE, which would make every start compile rcl's sources anew."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    env.update(extra)
+    return env
