@@ -118,7 +118,7 @@ def main() -> None:
         evaluate("bicubic warp, raw pixel powers", raw, 36, held, rep_raw.rms, rep_raw.condition)
         xyz = np.r_[np.c_[cmd, np.zeros(36)], np.c_[cmd, np.full(36, 40.0)]]
         linear, rep_lin = LinearCamera.fit(xyz, np.r_[uv, uv40])
-        evaluate("linear 3x4 camera (z = 0 and 40)", lambda u, v: linear.inverse_perspective(u, v, 0.0),
+        evaluate("linear 3x4 camera (z = 0 and 40)", lambda u, v, m=linear: m.inverse_perspective(u, v, 0.0),
                  72, held, rep_lin.rms)
         h = fit_homography(uv, cmd)
         hx, hy = h(uv[:, 0], uv[:, 1])

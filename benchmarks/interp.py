@@ -75,7 +75,7 @@ def frames_numpy(closed_form: bool) -> float:
 
     def loop():
         for _ in range(N_FRAMES):
-            T5 = inv(Z) @ W @ WG @ inv(E)  # noqa: F841
+            inv(Z) @ W @ WG @ inv(E)
     return best(loop)
 
 

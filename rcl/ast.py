@@ -6,7 +6,7 @@ checker" (types, resolved symbols) that the interpreter then relies on.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Optional
+from typing import Any
 
 
 @dataclass(frozen=True, slots=True)
@@ -64,13 +64,13 @@ class NamedType(TypeExpr):
 
 @dataclass(eq=False)
 class FrameTypeExpr(TypeExpr):
-    refs: Optional[tuple[str, str]]  # (from, to) in lower case (types.parse_refs), or None
+    refs: tuple[str, str] | None  # (from, to) in lower case (types.parse_refs), or None
 
 
 @dataclass(eq=False)
 class ArrayTypeExpr(TypeExpr):
-    low: Optional[Expr]  # None for an open array parameter
-    high: Optional[Expr]
+    low: Expr | None  # None for an open array parameter
+    high: Expr | None
     element: TypeExpr
 
 
@@ -166,7 +166,7 @@ class CallStmt(Stmt):
 @dataclass(eq=False)
 class If(Stmt):
     branches: list[tuple[Expr, Block]]
-    otherwise: Optional[Block]
+    otherwise: Block | None
 
 
 @dataclass(eq=False)
@@ -186,7 +186,7 @@ class For(Stmt):
     var: Ident
     start: Expr
     stop: Expr
-    step: Optional[Expr]
+    step: Expr | None
     down: bool
     body: Block
     symbol: Any = _annotation()
@@ -194,7 +194,7 @@ class For(Stmt):
 
 @dataclass(eq=False)
 class Return(Stmt):
-    value: Optional[Expr]
+    value: Expr | None
     result_type: Any = _annotation()  # set by the checker: the routine's result type
 
 
@@ -227,7 +227,7 @@ class Import(Stmt):
 @dataclass(eq=False)
 class VarDecl(Stmt):
     names: list[Ident]
-    type: Optional[TypeExpr]
+    type: TypeExpr | None
     symbols: Any = _annotation()
 
 
@@ -242,7 +242,7 @@ class ConstDecl(Stmt):
 class Param(Node):
     name: Ident
     by_ref: bool
-    type: Optional[TypeExpr]  # None: a frame name, or typed by the next typed name
+    type: TypeExpr | None  # None: a frame name, or typed by the next typed name
 
 
 @dataclass(eq=False)
@@ -250,7 +250,7 @@ class RoutineDecl(Stmt):
     name: Ident
     is_function: bool
     params: list[list[Param]]  # the groups between semicolons
-    result: Optional[TypeExpr]
+    result: TypeExpr | None
     body: Block
     symbol: Any = _annotation()
 

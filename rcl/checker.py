@@ -14,7 +14,7 @@ stable pass are the program's errors.
 from __future__ import annotations
 
 import difflib
-from typing import Callable, Optional
+from collections.abc import Callable
 
 from . import ast as A
 from . import foreign
@@ -37,8 +37,8 @@ class Checker:
         self.scope = scope
         self.prior = set(scope.variables)  # globals from earlier runs of the session
         self.errors: list[Diagnostic] = []
-        self.module: Optional[A.Module] = None
-        self.routine: Optional[Routine] = None
+        self.module: A.Module | None = None
+        self.routine: Routine | None = None
         self.new_routines: list[Routine] = []
         self.changed = False
         self.reporting = True
@@ -71,7 +71,7 @@ class Checker:
         file_rank = {m.filename: order[id(m)] for m in modules}
         return sorted(found.values(), key=lambda d: (file_rank.get(d.filename, 0), d.span.line, d.span.col))
 
-    def check_expression(self, e: A.Expr, module: A.Module) -> tuple[Optional[T.Type], list[Diagnostic]]:
+    def check_expression(self, e: A.Expr, module: A.Module) -> tuple[T.Type | None, list[Diagnostic]]:
         """The type of one expression in the session's scope (None for a procedure call), and its errors."""
         self.module = module
         self.errors = []
@@ -192,7 +192,7 @@ class Checker:
                 self.error(q.name.span, f"parameter {q.name.text} needs a type, as in "
                                         f"{q.name.text} : REAL (only frame names may omit it)")
                 out.append(ParamInfo(q.name.text, T.ANY, q.by_ref))
-        for p, info in zip((p for g in decl.params for p in g), out):
+        for p in (p for g in decl.params for p in g):
             if p.name.key in seen:
                 self.error(p.name.span, f"parameter {p.name.text} appears twice")
             seen.add(p.name.key)
@@ -231,7 +231,7 @@ class Checker:
             return T.ANY
         return T.ArrayType(element, low, high)
 
-    def _constant_int(self, e: A.Expr) -> Optional[int]:
+    def _constant_int(self, e: A.Expr) -> int | None:
         try:
             value, t = self.const_value(e)
         except NotConstant:
@@ -255,14 +255,14 @@ class Checker:
 
     # Names ---------------------------------------------------------------
 
-    def lookup(self, key: str) -> Optional[Variable]:
+    def lookup(self, key: str) -> Variable | None:
         if self.routine is not None:
             v = self.routine.locals.get(key)
             if v is not None:
                 return v
         return self.scope.variables.get(key)
 
-    def _declare(self, ident: A.Ident, t: Optional[T.Type], origin, **kw) -> Variable:
+    def _declare(self, ident: A.Ident, t: T.Type | None, origin, **kw) -> Variable:
         """A new variable in the current scope (a routine's locals, else the globals)."""
         self.changed = True
         if self.routine is not None:
@@ -279,7 +279,7 @@ class Checker:
         return (f"{name} is not a frame name, so it cannot {verb} a {t}; "
                 f"frames live in names ending in ^, such as {name}^")
 
-    def _store(self, ident: A.Ident, value_type: T.Type, span: A.Span, origin) -> Optional[Variable]:
+    def _store(self, ident: A.Ident, value_type: T.Type, span: A.Span, origin) -> Variable | None:
         """Check (and, the first time, declare) an assignment of value_type to a plain name."""
         v = self.lookup(ident.key)
         if v is None:
@@ -595,7 +595,7 @@ class Checker:
             return T.ANY
         return t
 
-    def expr(self, e: A.Expr) -> Optional[T.Type]:
+    def expr(self, e: A.Expr) -> T.Type | None:
         t = getattr(self, "expr_" + type(e).__name__)(e)
         e.type = t
         return t
@@ -617,7 +617,7 @@ class Checker:
     def expr_Boolean(self, e: A.Boolean) -> T.Type:
         return T.BOOLEAN
 
-    def expr_Name(self, e: A.Name) -> Optional[T.Type]:
+    def expr_Name(self, e: A.Name) -> T.Type | None:
         v = self.lookup(e.ident.key)
         if v is not None:
             e.symbol = v
@@ -668,10 +668,10 @@ class Checker:
         e.type = t.element
         return t.element
 
-    def expr_Call(self, e: A.Call) -> Optional[T.Type]:
+    def expr_Call(self, e: A.Call) -> T.Type | None:
         return self.call(e)
 
-    def call(self, e: A.Call, bare: Optional[A.Name] = None) -> Optional[T.Type]:
+    def call(self, e: A.Call, bare: A.Name | None = None) -> T.Type | None:
         key = e.callee.key
         target = self.scope.routines.get(key) or self.scope.builtins.get(key)
         if target is None:
@@ -716,7 +716,7 @@ class Checker:
         return self._result(target, arg_types)
 
     @staticmethod
-    def _result(target, arg_types) -> Optional[T.Type]:
+    def _result(target, arg_types) -> T.Type | None:
         if isinstance(target, Routine):
             return target.result
         if target.name == "INV" and arg_types and T.is_frame(arg_types[0]):
@@ -767,7 +767,8 @@ class Checker:
         if T.is_numeric(t) or (e.op == "-" and t == T.VECTOR):
             return t
         if T.is_frame(t):
-            self.error(e.span, f"a FRAME cannot be negated; use INV({e.operand.ident.text if isinstance(e.operand, A.Name) else '...'}) for the inverse")
+            name = e.operand.ident.text if isinstance(e.operand, A.Name) else "..."
+            self.error(e.span, f"a FRAME cannot be negated; use INV({name}) for the inverse")
         else:
             self.error(e.span, f"unary {e.op} needs a number, not {article(t)}")
         return T.ANY

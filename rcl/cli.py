@@ -15,16 +15,25 @@ import math
 import os
 import signal
 import sys
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Optional, Sequence
 
 from . import __version__
-from .errors import EXIT_INTERRUPTED, EXIT_OK, EXIT_RUNTIME, EXIT_STATIC, RclCancelled, RclRuntimeError, RclStaticError, report
+from .errors import (
+    EXIT_INTERRUPTED,
+    EXIT_OK,
+    EXIT_RUNTIME,
+    EXIT_STATIC,
+    RclCancelled,
+    RclRuntimeError,
+    RclStaticError,
+    report,
+)
 
 CTRL_C_GRACE_S = 0.5  # after Ctrl-C, how long a program has to reach a statement where it can stop
 
 
-def main(argv: Optional[Sequence[str]] = None) -> int:
+def main(argv: Sequence[str] | None = None) -> int:
     parser = _parser()
     args = parser.parse_args(argv)
     if args.command is None:
@@ -285,7 +294,7 @@ def _ctrl_c_stops_at_a_statement(session):
         signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
-def _run_session(session, args, source: Optional[str] = None) -> int:
+def _run_session(session, args, source: str | None = None) -> int:
     from .session import FileNotReadable, RclInternalError
 
     try:
@@ -330,7 +339,8 @@ def _check(args) -> int:
             status = EXIT_STATIC
         else:
             lines = Path(path).read_text(encoding="utf-8", errors="replace").count("\n")
-            print(f"{path}: no errors ({lines} line{'s' if lines != 1 else ''} and their imports: syntax, names, types, frame rules and "
+            plural = "s" if lines != 1 else ""
+            print(f"{path}: no errors ({lines} line{plural} and their imports: syntax, names, types, frame rules and "
                   f"references checked)")
     return status
 
@@ -338,8 +348,6 @@ def _check(args) -> int:
 def _vision(args) -> int:
     import json
     import time
-
-    from scipy import ndimage  # noqa: F401  imported before the clock starts: time_ms is processing only
 
     from .camera import ImageError, read_image
     from .vision import VisionError, find_wires, load
@@ -394,8 +402,7 @@ def _write_overlay(folder: str, path: str, image, result) -> str:
 
 
 def _calib_fit(args) -> int:
-    from .camera import BicubicWarp, CameraModelError, LinearCamera
-    from .camera import fileformat
+    from .camera import BicubicWarp, CameraModelError, LinearCamera, fileformat
     from .camera.csvfile import read_columns
 
     try:
@@ -422,8 +429,7 @@ def _calib_fit(args) -> int:
 
 
 def _calib_apply(args) -> int:
-    from .camera import BicubicWarp, CameraModelError
-    from .camera import fileformat
+    from .camera import BicubicWarp, CameraModelError, fileformat
     from .camera.csvfile import read_columns
 
     try:

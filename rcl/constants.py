@@ -1,7 +1,8 @@
 """Constant expressions: folded at check time for CONST values and array bounds."""
 from __future__ import annotations
 
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 from . import ast as A
 from . import types as T

@@ -9,7 +9,6 @@ from __future__ import annotations
 import itertools
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Optional
 
 from .ast import Span
 
@@ -78,7 +77,7 @@ class StackEntry:
 class RclRuntimeError(RclError):
     """An error while the program ran; the robot has been halted."""
 
-    def __init__(self, message: str, filename: str = "", span: Optional[Span] = None,
+    def __init__(self, message: str, filename: str = "", span: Span | None = None,
                  source: str = "", stack: tuple[StackEntry, ...] = ()) -> None:
         super().__init__(message)
         self.message = message
@@ -88,7 +87,7 @@ class RclRuntimeError(RclError):
         self.stack = stack
 
     @property
-    def diagnostic(self) -> Optional[Diagnostic]:
+    def diagnostic(self) -> Diagnostic | None:
         if self.span is None:
             return None
         return Diagnostic(self.filename, self.span, self.message, source_line(self.source, self.span.line))
@@ -119,7 +118,7 @@ def render_stack(stack: tuple[StackEntry, ...]) -> str:
 class RclCancelled(RclError):
     """The program was stopped from outside (cancel(), Ctrl-C or the step budget); the robot is halted."""
 
-    def __init__(self, reason: str, filename: str = "", span: Optional[Span] = None,
+    def __init__(self, reason: str, filename: str = "", span: Span | None = None,
                  by_user: bool = False, stack: tuple[StackEntry, ...] = ()) -> None:
         super().__init__(reason)
         self.reason = reason

@@ -13,7 +13,8 @@ from __future__ import annotations
 import math
 import operator
 import sys
-from typing import Any, Callable, Optional
+from collections.abc import Callable
+from typing import Any
 
 from . import ast as A
 from . import types as T
@@ -45,7 +46,7 @@ class Context:
     """
 
     def __init__(self, robot=None, camera=None, camera_model=None, wire_finder=None, out=None, cell=None,
-                 files: Optional[Files] = None) -> None:
+                 files: Files | None = None) -> None:
         self.robot = robot
         self.cell = cell  # the simulated cell (rcl.cell.SimCell) with its stations, or None
         self.camera = camera
@@ -56,8 +57,8 @@ class Context:
         self.errmsgs: list[str] = []
         self.steps = 0
         self.limit: float = math.inf
-        self.budget: Optional[int] = None
-        self.cancel_reason: Optional[str] = None
+        self.budget: int | None = None
+        self.cancel_reason: str | None = None
         self.cancel_by_user = False
         self.live_elements = 0  # in the local arrays of the routines running (MAX_LIVE_ELEMENTS)
         self.files = files if files is not None else Files()  # the folders programs may touch (rcl.files)
@@ -66,7 +67,7 @@ class Context:
     def out(self):
         return self._out if self._out is not None else sys.stdout
 
-    def start(self, budget: Optional[int]) -> None:
+    def start(self, budget: int | None) -> None:
         self.stack.clear()
         self.errmsgs.clear()
         self.steps = 0
@@ -99,8 +100,8 @@ class Compiler:
         self.ctx = ctx
         self.ran = ran  # keys of the modules already executed in this session
         self.module_codes: dict[str, Callable[[], None]] = {}  # compiled imported modules, by key
-        self.module: Optional[A.Module] = None
-        self.routine: Optional[Routine] = None
+        self.module: A.Module | None = None
+        self.routine: Routine | None = None
 
     # Units -----------------------------------------------------------------
 
@@ -159,7 +160,7 @@ class Compiler:
                     return RETURN
         return run
 
-    def stmt(self, s: A.Stmt) -> Optional[Callable]:
+    def stmt(self, s: A.Stmt) -> Callable | None:
         return getattr(self, "s_" + type(s).__name__)(s)
 
     def s_VarDecl(self, s):
@@ -370,7 +371,7 @@ class Compiler:
     def expr(self, e: A.Expr) -> Callable:
         return getattr(self, "e_" + type(e).__name__)(e)
 
-    def expr_as(self, e: A.Expr, target: Optional[T.Type]) -> Callable:
+    def expr_as(self, e: A.Expr, target: T.Type | None) -> Callable:
         """An expression whose value goes where target is expected (INTEGER widens to REAL)."""
         f = self.expr(e)
         if target == T.REAL and e.type != T.REAL:
@@ -489,7 +490,7 @@ class Compiler:
         func, make = b.func, self._raiser()
         if b.wants_ctx:
             ctx = self.ctx
-            func = lambda *xs, f=b.func: f(ctx, *xs)  # noqa: E731
+            func = lambda *xs, f=b.func: f(ctx, *xs)
         if len(fs) == 0:
             def call(fr):
                 try:

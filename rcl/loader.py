@@ -9,8 +9,8 @@ import cycles are harmless.
 from __future__ import annotations
 
 import os
+from collections.abc import Iterable
 from pathlib import Path
-from typing import Iterable, Optional
 
 from . import ast as A
 from .errors import Diagnostic, RclStaticError, source_line
@@ -37,8 +37,8 @@ def describe_read_error(path, e: Exception) -> str:
 
 
 def load(source: str, filename: str, key: str, base: Path, known: dict[str, A.Module],
-         search: Iterable[Path], made: Optional[dict[str, tuple[str, str]]] = None,
-         files: Optional[Files] = None) -> list[A.Module]:
+         search: Iterable[Path], made: dict[str, tuple[str, str]] | None = None,
+         files: Files | None = None) -> list[A.Module]:
     """[main, new imported modules...]; raises RclStaticError with every load problem.
     made: modules held in memory, by lower-case name: (the name diagnostics show, source);
     files: the folders a program may read (rcl.files)."""
@@ -99,7 +99,7 @@ def _file_name(name: str) -> str:
     return name if name.lower().endswith(".rcl") else name + ".rcl"
 
 
-def _resolve(name: str, folder: Path, search: Iterable[Path], files: Optional[Files]) -> Optional[Path]:
+def _resolve(name: str, folder: Path, search: Iterable[Path], files: Files | None) -> Path | None:
     """The first name.rcl beside the importing file, in the search path, in the standard library;
     FileRefused for a name that is no name, or for a file found outside what files allow."""
     check_name(name)

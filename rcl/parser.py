@@ -7,9 +7,9 @@ program is built without recursion. Syntax errors become Diagnostics.
 from __future__ import annotations
 
 import os
+from collections.abc import Iterator
 from functools import cache, lru_cache
 from pathlib import Path
-from typing import Iterator, Optional
 
 import lark
 from lark import Token, Transformer
@@ -365,7 +365,7 @@ def _terminal_named(text: str) -> str:
     return next((t.name for t in _parser().terminals if t.pattern.value == text), text)
 
 
-def _unclosed(source: str, at: Token) -> Optional[Token]:
+def _unclosed(source: str, at: Token) -> Token | None:
     """The innermost '(' or '[' still open where the token `at` stands, if any."""
     stack: list[Token] = []
     try:

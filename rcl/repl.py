@@ -13,8 +13,9 @@ import re
 import signal
 import sys
 import threading
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable, Optional, TextIO
+from typing import TextIO
 
 import numpy as np
 
@@ -101,8 +102,8 @@ def banner() -> str:
 class Repl:
     """The read-eval-print logic, separate from the terminal so that tests can drive it."""
 
-    def __init__(self, new_session: Callable[[], Session], out: Optional[TextIO] = None,
-                 err: Optional[TextIO] = None) -> None:
+    def __init__(self, new_session: Callable[[], Session], out: TextIO | None = None,
+                 err: TextIO | None = None) -> None:
         self.new_session = new_session
         self.session = new_session()
         self._out = out
@@ -395,7 +396,7 @@ def show(value, short: bool = False) -> str:
     return format_value(value)
 
 
-def history_path() -> Optional[Path]:
+def history_path() -> Path | None:
     """Where the history is kept: $RCL_HISTORY, else the XDG state folder; None if not writable."""
     if os.environ.get("RCL_HISTORY"):
         path = Path(os.environ["RCL_HISTORY"])

@@ -6,7 +6,6 @@ allowed; the checker reports the message at the operator.
 from __future__ import annotations
 
 from functools import lru_cache
-from typing import Union
 
 from . import types as T
 
@@ -19,7 +18,7 @@ def article(t) -> str:
 
 
 @lru_cache(maxsize=1024)  # a program uses few (op, type, type) triples, each many times
-def binop_type(op: str, a: T.Type, b: T.Type) -> Union[T.Type, str]:
+def binop_type(op: str, a: T.Type, b: T.Type) -> T.Type | str:
     """The result type of a op b, or a message saying why it is not allowed."""
     num_a, num_b = T.is_numeric(a), T.is_numeric(b)
     fa, fb = T.is_frame(a), T.is_frame(b)

@@ -6,7 +6,7 @@ import json
 import statistics
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Optional
+from typing import Any
 
 
 @dataclass
@@ -44,7 +44,7 @@ class RunWatcher:
         was, or the last one before it: calibration images are not looks."""
         return sum(1 for k in self.looks if k.number <= grab)
 
-    def summary_line(self, r: dict) -> Optional[str]:
+    def summary_line(self, r: dict) -> str | None:
         if not self.looks and not r["attempts"]:
             return None
         counts: dict[str, int] = {}
@@ -57,8 +57,8 @@ class RunWatcher:
                 f"{r['attempts']} picks tried, {len(r['failures'])} failures; "
                 f"robot time {r['robot_time_s']:.1f} s{vision}")
 
-    def finish(self, report_path: Optional[str], pictures: Optional[str],
-               frames: Optional[str] = None) -> tuple[Optional[str], list[str]]:
+    def finish(self, report_path: str | None, pictures: str | None,
+               frames: str | None = None) -> tuple[str | None, list[str]]:
         """Write what was asked for: (the summary line, or None without a cell run; what could not
         be written, each as `rcl: error: ...`). The caller shows them."""
         r = self.report()

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import copy
 from dataclasses import dataclass, field
-from typing import Any, Optional
+from typing import Any
 
 from .ast import RoutineDecl, Span
 from .types import ParamInfo, Type
@@ -19,14 +19,14 @@ class Variable:
     """A variable, constant or parameter."""
 
     name: str  # as first written
-    type: Optional[Type]  # None while not yet inferred
+    type: Type | None  # None while not yet inferred
     is_global: bool
     slot: int
     kind: str = "var"  # var | const | param | ref (a VAR parameter)
     declared: bool = False  # by VAR, CONST or a parameter list: its type never widens
     value: Any = None  # a constant's value
     filename: str = ""
-    span: Optional[Span] = None
+    span: Span | None = None
     origin: Any = None  # the statement that declared it (so later passes know it again)
 
 
@@ -36,7 +36,7 @@ class Routine:
 
     name: str
     params: list[ParamInfo]
-    result: Optional[Type]  # None for a procedure
+    result: Type | None  # None for a procedure
     decl: RoutineDecl
     module: Any  # the ast.Module it is written in
     locals: dict[str, Variable] = field(default_factory=dict)
@@ -72,7 +72,7 @@ class GlobalScope:
             slots=self.slots,
         )
 
-    def new_global(self, name: str, type: Optional[Type], **kw) -> Variable:
+    def new_global(self, name: str, type: Type | None, **kw) -> Variable:
         v = Variable(name, type, True, self.slots, **kw)
         self.slots += 1
         self.variables[name.lower()] = v

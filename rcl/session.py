@@ -19,8 +19,9 @@ import math
 import os
 import sys
 import time
+from collections.abc import Callable, Iterable
 from pathlib import Path
-from typing import Any, Callable, Iterable, Optional
+from typing import Any
 
 import numpy as np
 
@@ -49,13 +50,14 @@ class Session:
     """One RCL interpreter with its own state, robot and camera."""
 
     def __init__(self, *, robot=None, camera=None, camera_model=None, wire_finder=None, out=None,
-                 step_budget: Optional[int] = None, search_path: Iterable[str | Path] = (), cell=None,
+                 step_budget: int | None = None, search_path: Iterable[str | Path] = (), cell=None,
                  data: Iterable[str | Path] = (), any_file: bool = False,
-                 time_limit: Optional[float] = None) -> None:
+                 time_limit: float | None = None) -> None:
         """robot: a rcl.robots.Robot (default: a SimRobot of the smartarms model); camera: anything with
         grab() -> image array, such as rcl.camera.ImageFiles (default: none);
         camera_model: a rcl.camera.Calibration (default: a new, empty one);
-        wire_finder: f(image, method) -> rcl.vision.Sighting | None for FINDWIRE (method 'ridge'), GREYWIRE, BINWIRE and FINDMIDDLE ('middle')
+        wire_finder: f(image, method) -> rcl.vision.Sighting | None for FINDWIRE (method 'ridge'),
+            GREYWIRE, BINWIRE and FINDMIDDLE ('middle')
         (default: the paper's systems, rcl.vision.find_wires);
         out: where WRITE goes (default: sys.stdout); step_budget: stop a run after this many
         loop iterations and routine calls; search_path: extra folders for IMPORT;
@@ -87,7 +89,7 @@ class Session:
         self.files = Files(folders, self.search_path, anywhere=any_file)
         # the camera's scale, for the vision systems' millimetre sizes
         self.px_per_mm = cell.config.px_per_mm() if cell is not None else 4.0
-        self.on_look: Optional[Callable] = None  # f(image, vision result, ms) after every FINDWIRE/GREYWIRE/BINWIRE
+        self.on_look: Callable | None = None  # f(image, vision result, ms) after every FINDWIRE/GREYWIRE/BINWIRE
         if wire_finder is None:
             wire_finder = self._find_wire
         sim = cell.sim if cell is not None and self.robot is cell.robot and self.camera is cell.camera else None
@@ -119,7 +121,7 @@ class Session:
         source, key = self._read(path)
         return self._check(source, str(path), key, Path(key).parent)[1]
 
-    def evaluate(self, text: str, filename: str = "<expression>") -> tuple[Any, Optional[str]]:
+    def evaluate(self, text: str, filename: str = "<expression>") -> tuple[Any, str | None]:
         """Check and evaluate one expression: (its value as Python sees it, its RCL type).
 
         A procedure call is run and gives (None, None). Raises as run() does."""
@@ -129,7 +131,7 @@ class Session:
         value = self._execute(lambda: compiler.expression_code(expr, module)(), filename, text)
         return (None, None) if t is None else (_to_python(value), str(t))
 
-    def type_of(self, text: str) -> Optional[str]:
+    def type_of(self, text: str) -> str | None:
         """The static type of an expression (None for a procedure call); RclStaticError if it has errors."""
         return None if (t := self._check_expression(text, "<expression>")[1]) is None else str(t)
 
@@ -210,7 +212,7 @@ class Session:
         """Every PROCEDURE and FUNCTION the session knows (its own and its imports'), by lower-case name."""
         return dict(self._scope.routines)
 
-    def register(self, func: Callable, name: Optional[str] = None) -> Builtin:
+    def register(self, func: Callable, name: str | None = None) -> Builtin:
         """Make a Python function a built-in of this session; its annotations are its RCL signature."""
         b = Builtin.from_function(name or func.__name__, func)
         if b.name.lower() in self._scope.routines:

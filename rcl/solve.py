@@ -8,8 +8,6 @@ product costs and is exact (no numerical search).
 """
 from __future__ import annotations
 
-from typing import Union
-
 from . import ast as A
 
 
@@ -79,7 +77,7 @@ def _isolate(terms: list[A.Expr], value: A.Expr, key: str, span: A.Span) -> A.Ex
         value = A.BinOp("*", _inv(_product(terms[:k], span), span), value, span=span, op_span=span)
     if k < len(terms) - 1:
         value = A.BinOp("*", value, _inv(_product(terms[k + 1:], span), span), span=span, op_span=span)
-    term: Union[A.Expr, None] = terms[k]
+    term: A.Expr | None = terms[k]
     if isinstance(term, A.Name):
         return value
     if _is_inv(term):

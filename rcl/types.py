@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import typing
 from dataclasses import dataclass
-from typing import Annotated, Generic, Optional, TypeVar
+from typing import Annotated, Generic, TypeVar
 
 import numpy as np
 
@@ -34,8 +34,8 @@ class Prim(Type):
 class FrameType(Type):
     """FRAME, with the references it maps between where known (Paul's ^src dst)."""
 
-    src: Optional[str] = None
-    dst: Optional[str] = None
+    src: str | None = None
+    dst: str | None = None
 
     def __str__(self) -> str:
         if self.src is None and self.dst is None:
@@ -50,8 +50,8 @@ class FrameType(Type):
 @dataclass(frozen=True)
 class ArrayType(Type):
     element: Type
-    low: Optional[int] = None  # None: an open array (parameters only)
-    high: Optional[int] = None
+    low: int | None = None  # None: an open array (parameters only)
+    high: int | None = None
 
     @property
     def is_open(self) -> bool:
@@ -155,7 +155,7 @@ def assignable(target: Type, value: Type) -> bool:
     return same_shape(target, value)
 
 
-def refs_conflict(target: Type, value: Type) -> Optional[str]:
+def refs_conflict(target: Type, value: Type) -> str | None:
     """Why a frame of references value cannot go where target is expected, or None."""
     if not (isinstance(target, FrameType) and isinstance(value, FrameType)):
         return None
@@ -165,7 +165,7 @@ def refs_conflict(target: Type, value: Type) -> Optional[str]:
     return None
 
 
-def compose(left: FrameType, right: FrameType) -> tuple[FrameType, Optional[str]]:
+def compose(left: FrameType, right: FrameType) -> tuple[FrameType, str | None]:
     """The references of left * right, and the mismatch if their inner names differ."""
     problem = None
     if left.dst is not None and right.src is not None and left.dst != right.src:

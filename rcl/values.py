@@ -7,7 +7,8 @@ an Array. An unassigned variable holds None.
 """
 from __future__ import annotations
 
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 

@@ -13,9 +13,10 @@ the description names no warp file).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Optional, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -27,7 +28,7 @@ class Cell:
     config: CellConfig
     robot: Any  # rcl.robots.Robot
     camera: Any  # grab() -> image, or None
-    sim: Optional[SimCell]  # the simulation behind robot and camera, when they are simulated
+    sim: SimCell | None  # the simulation behind robot and camera, when they are simulated
 
     @property
     def tray_z(self) -> float:
@@ -42,7 +43,7 @@ class CellSetupError(Exception):
 
 
 def open_cell(path: str | Path | CellConfig | None = None, seed: int = 0,
-              wires: Optional[Sequence[int]] = None, realtime: bool = False) -> Cell:
+              wires: Sequence[int] | None = None, realtime: bool = False) -> Cell:
     """The cell a description (a file, a loaded CellConfig, or None: the built-in) stands for.
     seed and wires (low, high) make the simulated tray; CellConfigError or CellSetupError say
     what is wrong."""

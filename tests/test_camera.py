@@ -6,13 +6,20 @@ import json
 
 import numpy as np
 import pytest
+from conftest import rcl
 from PIL import Image
 
-from conftest import rcl
 from rcl import RclRuntimeError, Session
-from rcl.camera import (BicubicWarp, CameraModelError, ImageError, ImageFiles, LinearCamera,
-                        find_mark, read_image)
-from rcl.camera import fileformat
+from rcl.camera import (
+    BicubicWarp,
+    CameraModelError,
+    ImageError,
+    ImageFiles,
+    LinearCamera,
+    fileformat,
+    find_mark,
+    read_image,
+)
 from rcl.camera.simulated import PinholeCamera, render_disc
 
 RNG = np.random.default_rng(7)
@@ -165,6 +172,7 @@ def test_model_files_round_trip_and_reject_other_versions(tmp_path):
 
 # Images and the marker ------------------------------------------------------------
 
+@pytest.mark.slow
 @pytest.mark.parametrize("level, background", [(0.9, 0.3), (0.1, 0.6)])
 def test_find_mark_locates_a_disc_to_a_small_fraction_of_a_pixel(level, background):
     errors = []
@@ -191,6 +199,7 @@ def test_find_mark_ignores_wires_and_returns_none_without_a_disc():
     assert find_mark(np.ones((2, 2))) is None
 
 
+@pytest.mark.slow
 def test_find_mark_finds_a_disc_on_a_pad_over_wires_on_any_board():
     """The cell's marker (a light disc on a dark pad) over dark and light wires on a textured
     board of any brightness: found by its own surround, within a tenth of a pixel."""
@@ -278,6 +287,7 @@ def test_calibration_builtins_in_rcl(tmp_path, monkeypatch):
         Session().run("IF FINDMARK(u, v) THEN END")
 
 
+@pytest.mark.slow
 def test_findmark_builtin_reads_the_session_camera(tmp_path):
     img = render_disc((120, 160), (70.25, 40.5), 5, 0.95, 0.2)
     Image.fromarray((img * 255).round().astype(np.uint8)).save(tmp_path / "mark.png")
@@ -290,6 +300,7 @@ def test_findmark_builtin_reads_the_session_camera(tmp_path):
     assert r.returncode == 2 and "--camera" in r.stderr
 
 
+@pytest.mark.slow
 def test_calib_cli_fit_and_apply(tmp_path):
     cam = PinholeCamera.over_tray(height_mm=600, tilt_deg=8, k1=-0.05)
     g = np.linspace(-90, 90, 6)
@@ -337,6 +348,7 @@ def test_calib_cli_bad_input_exits_2(tmp_path, content, message):
     assert r.returncode == 2 and message in r.stderr and "Traceback" not in r.stderr
 
 
+@pytest.mark.slow
 def test_calib_cli_bad_model_file_exits_2(tmp_path):
     (tmp_path / "q.csv").write_text("u,v\n1,2\n")
     for text in ("not json", '{"format": "rcl-camera-model", "version": 9}', "[]"):

@@ -8,8 +8,8 @@ import re
 
 import numpy as np
 import pytest
-
 from conftest import ROOT, rcl
+
 from rcl import Session
 from rcl.camera import as_grey
 from rcl.camera.simulated import PinholeCamera
@@ -181,6 +181,7 @@ def test_the_tray_looks_as_the_randomized_generator_draws_it_from_its_seed():
     assert tray.scene.board == "plain" and {lk.insulation for lk in tray.looks.values()} == {"black"}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", [0, 1, 2, 3, 5])
 def test_the_marker_is_found_where_the_fingertips_are_on_any_tray(seed):
     from rcl.camera import find_mark
@@ -208,6 +209,7 @@ def test_the_marker_is_found_where_the_fingertips_are_on_any_tray(seed):
     ("[robot]\nkind = 'ssc32'\nport = 'x'\n", "simulated camera"),
     ("name = \n", "not a valid TOML file"),
 ])
+@pytest.mark.slow
 def test_bad_cell_files_are_refused_with_the_key_named(tmp_path, text, message):
     path = tmp_path / "cell.toml"
     path.write_text(text)
@@ -217,6 +219,7 @@ def test_bad_cell_files_are_refused_with_the_key_named(tmp_path, text, message):
     assert r.returncode == 2 and "rcl: error: --cell:" in r.stderr and "Traceback" not in r.stderr
 
 
+@pytest.mark.slow
 def test_a_missing_cell_file_and_a_cell_camera_with_no_images(tmp_path):
     r = rcl("run", str(ROOT / "examples" / "crimp.rcl"), "--cell", str(tmp_path / "nope.toml"))
     assert r.returncode == 2 and "no such file" in r.stderr
@@ -226,6 +229,7 @@ def test_a_missing_cell_file_and_a_cell_camera_with_no_images(tmp_path):
     assert r.returncode == 2 and "holds no image files" in r.stderr and "Traceback" not in r.stderr
 
 
+@pytest.mark.slow
 def test_a_camera_that_runs_out_of_images_stops_the_task_with_a_clear_error(tmp_path):
     from PIL import Image
 
@@ -248,6 +252,7 @@ def test_a_camera_that_runs_out_of_images_stops_the_task_with_a_clear_error(tmp_
     assert "look.rcl:4:7: error: GREYWIRE: no more images" in r.stderr and r.stdout.count("seen at") == 1
 
 
+@pytest.mark.slow
 def test_a_missing_warp_file_is_calibrated_and_saved_then_loaded(tmp_path):
     (tmp_path / "cell.toml").write_text("warp = 'warp.json'\n")
     for expect in ("calibrating instead", "camera model: " + str(tmp_path / "warp.json")):
@@ -268,6 +273,7 @@ def test_stations_and_sensors_need_a_cell_that_has_them():
         s.run("IMPORT 'cell'")
 
 
+@pytest.mark.slow
 def test_the_main_job_from_the_command_line_reports_and_draws_every_look(tmp_path):
     """Seed 3: the press refuses three wires once each. The output, the report and the
     pictures number wires and looks alike and say the same words for the same event."""

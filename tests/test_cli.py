@@ -8,6 +8,7 @@ import subprocess
 import sys
 import time
 
+import pytest
 from conftest import ROOT, rcl
 
 DIAGNOSTIC = re.compile(r"^(?P<file>[^:\n]+):(?P<line>\d+):(?P<col>\d+): error: (?P<msg>.*)$", re.M)
@@ -41,6 +42,7 @@ def test_runtime_error_exit_1_with_rcl_call_stack(write):
     assert "RCL call stack" in r.stderr and "P, called at" in r.stderr and ":5:1" in r.stderr
 
 
+@pytest.mark.slow
 def test_check_exit_codes(write):
     good = write("good.rcl", "x := 1\n")
     bad = write("bad.rcl", "x := \n")
@@ -53,6 +55,7 @@ def test_check_exit_codes(write):
                *map(str, sorted((ROOT / "stdlib").glob("*.rcl")))).returncode == 0
 
 
+@pytest.mark.slow
 def test_unreadable_files_get_a_clear_message(tmp_path):
     r = rcl("run", str(tmp_path / "missing.rcl"))
     assert r.returncode == 2 and "rcl: error: cannot read" in r.stderr and "Traceback" not in r.stderr
@@ -64,6 +67,7 @@ def test_unreadable_files_get_a_clear_message(tmp_path):
     assert r.returncode == 2 and "folder" in r.stderr
 
 
+@pytest.mark.slow
 def test_usage_errors():
     r = rcl("run")
     assert r.returncode == 2 and "usage" in r.stderr.lower()
@@ -77,6 +81,7 @@ def test_step_budget_option(write):
     assert r.returncode == 1 and "step budget" in r.stderr
 
 
+@pytest.mark.slow
 def test_ctrl_c_stops_a_run_cleanly_with_exit_130(write):
     p = write("forever.rcl", "WRITELN('looping')\nWHILE TRUE DO x := 1 END\n")
     env = dict(os.environ, PYTHONFAULTHANDLER="1")  # if it ever hangs, SIGABRT shows where
@@ -99,6 +104,7 @@ def test_ctrl_c_stops_a_run_cleanly_with_exit_130(write):
     assert f"{p}:2:" in err and "error: stopped: interrupted (Ctrl-C)" in err  # where the program was
 
 
+@pytest.mark.slow
 def test_console_script_and_module_are_the_same_command(write):
     import shutil
     exe = shutil.which("rcl", path=os.path.dirname(sys.executable)) or shutil.which("rcl")
@@ -109,6 +115,7 @@ def test_console_script_and_module_are_the_same_command(write):
     assert "rcl " in subprocess.run([exe, "--version"], capture_output=True, text=True).stdout
 
 
+@pytest.mark.slow
 def test_the_sample_trays_give_rcl_vision_something_to_find(tmp_path):
     """examples/trays: images to try `rcl vision` on before a camera is connected; each shows
     graspable ends (the overlays are written too)."""

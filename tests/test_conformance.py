@@ -5,12 +5,12 @@ import subprocess
 import sys
 
 import pytest
-
 from conftest import ROOT
 
 RUNNER = ROOT.parent / "shared" / "conformance" / "run.py"
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not RUNNER.exists(), reason="../shared/conformance is not beside this checkout")
 def test_public_conformance_cases():
     r = subprocess.run([sys.executable, str(RUNNER), "--rcl", f"{sys.executable} -m rcl"],

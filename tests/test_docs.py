@@ -11,7 +11,6 @@ import subprocess
 import sys
 
 import pytest
-
 from conftest import ROOT, rcl
 
 TUTORIAL = ROOT / "docs" / "tutorial.md"
@@ -71,6 +70,7 @@ def expect_in_order(output: str, expected: list[str]) -> None:
             pytest.fail(f"{want!r} is not in the output (after line {at}):\n{output}")
 
 
+@pytest.mark.slow
 def test_the_tutorials_repl_transcripts_replay_as_shown():
     inputs, expected = [], []
     for _, block in code_blocks(TUTORIAL):
@@ -95,6 +95,7 @@ def run_program(tmp_path, text: str, *args: str) -> subprocess.CompletedProcess:
     return rcl(*args, str(path)) if args and args[0] == "check" else rcl("run", str(path))
 
 
+@pytest.mark.slow
 def test_the_tutorials_cell_equation_and_pick_run_as_written(tmp_path):
     (declare_and_solve,) = [b for b in section("2.") if b[0].startswith("VAR")]
     solve = [b for b in section("2.") if b[0].startswith("SOLVE")][0]
@@ -118,6 +119,7 @@ def test_the_tutorials_cell_equation_and_pick_run_as_written(tmp_path):
     assert done.returncode == 0, done.stderr
 
 
+@pytest.mark.slow
 def test_the_tutorials_commands_print_what_it_quotes(tmp_path):
     """`rcl run examples/...` as the tutorial says, in a folder of one's own, with the output it
     quotes in the block after the command."""

@@ -6,8 +6,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from conftest import ROOT
+
 from rcl import Session
 from rcl.camera import Calibration, find_mark
 from rcl.frame import Frame
@@ -23,6 +23,7 @@ def cell_session(seed=3, wires=(3, 3), data=()):
     return Session(out=out, step_budget=10_000_000, cell=cell, data=data), out
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.name)
 def test_example_runs(path: Path, tmp_path, monkeypatch):
     s, out = cell_session(data=[tmp_path])  # examples may write files (calibrate.rcl: warp.json)
@@ -31,6 +32,7 @@ def test_example_runs(path: Path, tmp_path, monkeypatch):
     assert not s.robot.halted
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name, done", [("crimp.rcl", "crimped"), ("tin.rcl", "tinned")])
 def test_the_wire_tasks_empty_a_small_tray(name, done):
     s, out = cell_session(seed=1, wires=(4, 4))
@@ -42,6 +44,7 @@ def test_the_wire_tasks_empty_a_small_tray(name, done):
     assert "the tray is empty" in out.getvalue() or f"{done} 4 of 4" in out.getvalue()
 
 
+@pytest.mark.slow
 def test_calibrate_example_fits_a_warp_that_absorbs_distortion_and_the_arms_inaccuracy(tmp_path, monkeypatch):
     s, out = cell_session(data=[tmp_path])
     s.run_file(ROOT / "examples" / "calibrate.rcl")
@@ -90,6 +93,7 @@ def test_the_pick_example_moves_through_the_solved_frames_and_says_what_came_of_
     assert abs(fingers[:3, 1] @ w[:3, 2]) < 1e-12  # the fingers close across the wire
 
 
+@pytest.mark.slow
 def test_the_whole_task_of_the_language_reference_runs_as_printed():
     """docs/language.md section 11, taken from the page itself, so that the page cannot drift."""
     page = (ROOT / "docs" / "language.md").read_text()

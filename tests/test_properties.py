@@ -9,10 +9,10 @@ import random
 import re
 
 import pytest
+from conftest import ROOT, rcl
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from conftest import ROOT, rcl
 from rcl import RclCancelled, RclRuntimeError, RclStaticError, Session
 from rcl.cli import main as cli_main
 from rcl.session import RclInternalError
@@ -54,12 +54,14 @@ def outcome(source: str) -> tuple[int, str, list]:
     return 0, out.getvalue(), s.robot.log
 
 
+@pytest.mark.slow
 @settings(max_examples=400 * FUZZ, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.lists(st.sampled_from(TOKENS), max_size=40).map(" ".join))
 def test_token_soup(source):
     outcome(source)
 
 
+@pytest.mark.slow
 @settings(max_examples=300 * FUZZ, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.sampled_from(EXAMPLES), st.randoms(use_true_random=False), st.integers(1, 4))
 def test_mutated_programs(source, rnd: random.Random, edits):
@@ -76,6 +78,7 @@ def test_mutated_programs(source, rnd: random.Random, edits):
     outcome("".join(words))
 
 
+@pytest.mark.slow
 @settings(max_examples=200 * FUZZ, deadline=None)
 @given(st.text(max_size=200))
 def test_arbitrary_text(source):
@@ -89,6 +92,7 @@ OPENERS = [("IF TRUE THEN\n", "END\n"), ("WHILE FALSE DO\n", "END\n"), ("REPEAT\
 @settings(max_examples=40 * FUZZ, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.lists(st.sampled_from(range(len(OPENERS) - 1)), min_size=1, max_size=8), st.integers(1, 2_200),
        st.integers(0, 3_000))
+@pytest.mark.slow
 def test_deep_nesting_up_to_and_past_the_limit(kinds, depth, operators):
     # blocks of mixed kinds nested `depth` deep around an expression of `operators` chained minus
     # signs: it runs, or it is refused as nested too deeply; nothing else
@@ -105,6 +109,7 @@ def test_deep_nesting_up_to_and_past_the_limit(kinds, depth, operators):
         assert code == 2 and f"more than {MAX_NESTING} levels" in Session().check(source)[0].message
 
 
+@pytest.mark.slow
 def test_deep_nesting_of_parentheses_and_ifs():
     assert outcome("x := " + "(" * 1000 + "1" + ")" * 1000 + "\nWRITELN(x)")[:2] == (0, "1\n")
     nested_if = "x := 0\n" + "IF TRUE THEN\n" * 1000 + "x := 1\n" + "END\n" * 1000 + "WRITELN(x)"
@@ -137,6 +142,7 @@ def test_huge_literals_and_values():
 
 @settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow,
                                                                HealthCheck.function_scoped_fixture])
+@pytest.mark.slow
 @given(st.lists(st.sampled_from(TOKENS), max_size=30).map(" ".join))
 def test_cli_exit_codes_for_token_soup(tmp_path, source):
     path = tmp_path / "soup.rcl"
@@ -167,6 +173,7 @@ def test_cli_in_process_never_shows_a_traceback(tmp_path):
             assert DIAGNOSTIC.search(err.getvalue()), (text, err.getvalue())
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("text", ["x := (((", "WHILE TRUE DO x := 1 END", "IF 1 THEN END", "\xff"])
 def test_cli_subprocess_exits_cleanly(tmp_path, text):
     path = tmp_path / "p.rcl"

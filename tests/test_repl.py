@@ -8,10 +8,10 @@ import sys
 import threading
 
 import pytest
+from conftest import ROOT
 from prompt_toolkit.input import create_pipe_input
 from prompt_toolkit.output import DummyOutput
 
-from conftest import ROOT
 from rcl import Session
 from rcl.repl import Repl, banner
 from rcl.robots import RecordingArm
@@ -87,6 +87,7 @@ def test_completion_of_keywords_builtins_and_variables():
     assert "WHILE" in repl.completions("wh")
 
 
+@pytest.mark.slow
 def test_ctrl_c_stops_a_running_loop_and_returns_to_the_prompt():
     def interrupt_soon():
         threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
@@ -95,6 +96,7 @@ def test_ctrl_c_stops_a_running_loop_and_returns_to_the_prompt():
     assert out.strip().endswith("after")
 
 
+@pytest.mark.slow
 def test_a_real_terminal_session_with_pexpect(tmp_path):
     pexpect = pytest.importorskip("pexpect")
     # pexpect's pty answers no cursor-position requests; without this prompt_toolkit waits for them
@@ -123,6 +125,7 @@ def test_a_real_terminal_session_with_pexpect(tmp_path):
     assert "x + 1" in (tmp_path / "history").read_text()
 
 
+@pytest.mark.slow
 def test_piped_input_is_taken_as_typed_at_the_prompt():
     from conftest import rcl
     r = rcl(input="x := 20\nWRITELN(x * 2 + 2)\n")
@@ -169,7 +172,6 @@ def test_every_built_in_is_highlighted_as_one():
 
     from rcl.builtins import default_builtins
     from rcl.highlight import RclLexer
-
     from rcl.keywords import keywords
     from rcl.types import NAMED
 

@@ -7,10 +7,10 @@ import time
 
 import numpy as np
 import pytest
-from PIL import Image
-
 from conftest import rcl
 from fake_ssc32 import FakeSSC32
+from PIL import Image
+
 from rcl import Frame, RclRuntimeError, Session
 from rcl.robots import IKError, RobotError, SimRobot, fk, load_model, solve
 from rcl.robots.kinematics import solutions
@@ -53,6 +53,7 @@ def test_five_axis_forward_kinematics_is_the_planar_arm_geometry(name):
 
 # Inverse kinematics -----------------------------------------------------------------
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", MODELS)
 def test_ik_round_trips_10000_random_reachable_poses(name):
     m = load_model(name)
@@ -94,6 +95,7 @@ def test_unreachable_and_limit_violating_targets_are_refused_with_the_reason():
         solve(puma, Frame.trans(2000, 0, 0).matrix, puma.home)
 
 
+@pytest.mark.slow
 def test_numerical_fallback_for_a_user_model(tmp_path):
     text = (load_model("smartarms").source and open(load_model("smartarms").source).read())
     path = tmp_path / "mine.toml"
@@ -233,6 +235,7 @@ def test_al5d_session_log_against_the_fake_ssc32_byte_for_byte():
         fake.close()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mode, message", [("garbage", "answered b'x' to Q"), ("silent", "did not answer Q")])
 def test_a_faulty_controller_ends_the_program_within_seconds_with_a_halt(mode, message):
     fake = FakeSSC32(mode)
@@ -258,6 +261,7 @@ def test_a_device_that_is_not_an_ssc32_is_refused():
         SerialRobot("loop://", "smartarms")
 
 
+@pytest.mark.slow
 def test_cli_robot_options(tmp_path):
     program = tmp_path / "p.rcl"
     program.write_text("MOVE(TRANS(350, 0, 150) * ROTX(180))\nHOME\nWRITELN('ok')\n")
@@ -309,6 +313,7 @@ def test_realtime_sim_takes_the_time_and_halt_cuts_a_motion_short():
     assert -30 < r.joints()[0] < 9  # it stopped early on the way, where it was when halted
 
 
+@pytest.mark.slow
 def test_the_built_in_cell_is_laid_out_for_the_puma560():
     # --model puma560 on the built-in cell: its layout (base on a pedestal 700 mm above the tray,
     # the bath farther out), and the main job runs on it to the end

@@ -125,6 +125,7 @@ def test_import_of_a_long_name_and_from_a_declared_folder(place):
     assert out.getvalue() == "outside\n"
 
 
+@pytest.mark.slow
 def test_the_cli_refuses_a_path_out_with_a_located_error_and_takes_data_folders(place):
     prog = place / "prog"
     (prog / "p.rcl").write_text(f"{FIT}\nr := FITWARP()\nSAVEWARP('{place}/outside/w.json')\n")
@@ -158,6 +159,7 @@ def nested(opener: str, closer: str, n: int, inner: str = "WRITELN(1)") -> str:
     "x := " + "-" * 50_000 + "1\n",
     "x := 1" + " + 1" * 100_000 + "\n",
 ])
+@pytest.mark.slow
 def test_a_program_nested_too_deep_is_refused_before_it_runs(text):
     from rcl.parser import MAX_NESTING
 
@@ -168,6 +170,7 @@ def test_a_program_nested_too_deep_is_refused_before_it_runs(text):
         s.run(text, "deep.rcl")
 
 
+@pytest.mark.slow
 def test_nesting_just_within_the_limit_runs_and_the_cli_never_crashes(tmp_path):
     out = io.StringIO()
     Session(out=out).run(nested("IF TRUE THEN\n", "END\n", 1_900) + "x := " + "-" * 3_001 + "1\nWRITELN(x)\n")
@@ -178,6 +181,7 @@ def test_nesting_just_within_the_limit_runs_and_the_cli_never_crashes(tmp_path):
     assert r.returncode == 2 and "deep.rcl:2001:1: error: the program nests too deeply" in r.stderr
 
 
+@pytest.mark.slow
 def test_recursion_through_deeply_nested_blocks_is_an_error_try_catches():
     """Each call within 1,900 nested IFs takes thousands of Python frames: Python's stack is spent
     long before the 1,000-call limit. That is an RCL error at the call, not a crash, and TRY catches it."""
@@ -221,6 +225,7 @@ def test_numbers_and_strings_out_of_range_are_rcl_errors_try_catches(text, messa
     assert out.getvalue().startswith("caught: ") and message.split(":")[0] in out.getvalue()
 
 
+@pytest.mark.slow
 def test_ctrl_c_while_checking_or_seeing_ends_with_130_and_a_message(tmp_path):
     import signal
     import time
@@ -244,6 +249,7 @@ def test_ctrl_c_while_checking_or_seeing_ends_with_130_and_a_message(tmp_path):
     ('{"rms_mm": 1' + '0' * 5000 + ', "max_mm": 1}', "not a camera-model file"),
     ('{"rms_mm": 1, "max_mm": 1, "residuals_mm": [[1, "x"]]}', '"residuals_mm" must be a list'),
 ])
+@pytest.mark.slow
 def test_a_camera_model_with_a_bad_fit_is_a_clear_error(place, fit, message):
     import json
 
@@ -252,17 +258,20 @@ def test_a_camera_model_with_a_bad_fit_is_a_clear_error(place, fit, message):
     text = json.dumps(doc)[:-1] + ', "fit": ' + fit + "}"
     (place / "bad.json").write_text(text)
     (place / "q.csv").write_text("u,v\n10,20\n")
-    r = subprocess.run(check=False, args=[sys.executable, "-m", "rcl", "calib", "apply", str(place / "bad.json"), str(place / "q.csv")],
+    r = subprocess.run(check=False, args=[sys.executable, "-m", "rcl", "calib", "apply", str(place / "bad.json"),
+                                          str(place / "q.csv")],
                        capture_output=True, text=True, timeout=60)
     assert r.returncode == 2 and message in r.stderr and "Traceback" not in r.stderr, r.stderr[-300:]
 
 
+@pytest.mark.slow
 def test_rcl_vision_refuses_a_scale_no_camera_has(tmp_path):
     from PIL import Image
 
     Image.new("L", (64, 64), 128).save(tmp_path / "grey.png")
     for scale in ("inf", "1e-9", "1e6", "nan", "0"):
-        r = subprocess.run(check=False, args=[sys.executable, "-m", "rcl", "vision", str(tmp_path / "grey.png"), "--px-per-mm", scale],
+        r = subprocess.run(check=False, args=[sys.executable, "-m", "rcl", "vision", str(tmp_path / "grey.png"),
+                                              "--px-per-mm", scale],
                            capture_output=True, text=True, timeout=60)
         assert r.returncode == 2 and "the scale must be 0.5 to 100 px per mm" in r.stderr, r.stderr[-300:]
 
@@ -277,6 +286,7 @@ def test_rcl_vision_refuses_a_scale_no_camera_has(tmp_path):
     (("linear_speed = 100.0", "linear_speed = 0.0"), "linear_speed must be above zero"),
     (("linear_speed = 100.0", "linear_speed = nan"), "linear_speed must be a finite number"),
 ])
+@pytest.mark.slow
 def test_an_arm_model_with_a_bad_number_is_refused_when_loaded(tmp_path, change, message):
     from rcl.robots import RobotError
     from rcl.robots.kinematics import MODELS_DIR, load_model
@@ -287,7 +297,8 @@ def test_an_arm_model_with_a_bad_number_is_refused_when_loaded(tmp_path, change,
     (tmp_path / "arm.toml").write_text(text.replace(old, new))
     with pytest.raises(RobotError, match=message):
         load_model(tmp_path / "arm.toml")
-    r = subprocess.run(check=False, args=[sys.executable, "-m", "rcl", "run", "nothing.rcl", "--model", str(tmp_path / "arm.toml")],
+    r = subprocess.run(check=False, args=[sys.executable, "-m", "rcl", "run", "nothing.rcl", "--model",
+                                      str(tmp_path / "arm.toml")],
                        capture_output=True, text=True, timeout=60, cwd=tmp_path)
     assert r.returncode == 2 and message in r.stderr and "Traceback" not in r.stderr, r.stderr[-300:]
 
@@ -316,6 +327,7 @@ def test_the_pulse_sent_to_a_servo_says_the_angle_asked_for():
     ("[bath]\nseconds = -1\n", "bath.seconds must be 0 to 3600"),
     ("[camera]\nwidth = 4096\n", "camera.width must be 64 to 2048, not 4096"),  # 2 GB a look
 ])
+@pytest.mark.slow
 def test_a_cell_file_with_a_number_out_of_range_is_refused_when_loaded(tmp_path, text, message):
     from rcl.cell import CellConfigError, load_config
 
@@ -346,6 +358,7 @@ def test_errors_name_the_line_and_column_the_parser_counted(text, where, shown):
     assert "^" in lines[2] and lines[2].index("^") == int(where.split(":")[1]) - 1
 
 
+@pytest.mark.slow
 def test_an_image_too_large_for_any_camera_is_refused_before_it_is_decoded(tmp_path):
     import warnings
 
@@ -364,6 +377,7 @@ def test_an_image_too_large_for_any_camera_is_refused_before_it_is_decoded(tmp_p
     assert r.returncode != 0 and "more than the 40,000,000 pixels" in r.stderr and "Warning" not in r.stderr
 
 
+@pytest.mark.slow
 def test_a_time_limit_stops_a_program_that_runs_on(tmp_path):
     import time
 
@@ -383,6 +397,7 @@ def test_a_time_limit_stops_a_program_that_runs_on(tmp_path):
         Session(time_limit=0)
 
 
+@pytest.mark.slow
 def test_recursion_with_large_local_arrays_stops_at_a_memory_bound():
     from rcl.interpreter import MAX_LIVE_ELEMENTS
 

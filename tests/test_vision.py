@@ -5,9 +5,9 @@ import math
 
 import numpy as np
 import pytest
+from conftest import lit_wires
 from scipy import ndimage
 
-from conftest import lit_wires
 from rcl.vision.binary import NEIGHBOURS, critically_connected, find_wires_binary, papers_expression, thin
 from rcl.vision.synth import KINDS, make_tray
 
@@ -63,6 +63,7 @@ def test_thinning_keeps_shapes_connected_and_one_pixel_wide():
         assert not (sk[:-1, :-1] & sk[1:, :-1] & sk[:-1, 1:] & sk[1:, 1:]).any()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["sparse", "crossing", "bright_on_dark", "colour"])
 def test_binary_first_pick_is_a_graspable_end_on_most_trays(kind):
     good = 0
@@ -113,6 +114,7 @@ def test_binary_copes_with_blank_noise_and_tiny_images():
     assert find_wires_binary(np.zeros((3, 3))).candidates == []
 
 
+@pytest.mark.slow
 def test_generator_is_seeded_and_covers_every_kind():
     for kind in KINDS:
         a, b = make_tray(kind, 5), make_tray(kind, 5)

@@ -7,8 +7,8 @@ import math
 
 import numpy as np
 import pytest
-
 from conftest import lit_wires
+
 from rcl.vision import VisionError, find_wires
 from rcl.vision.grey import STEPS, chain_points, edge_at, edges, find_wires_grey
 from rcl.vision.synth import KINDS, make_tray
@@ -24,6 +24,7 @@ def bar_image(end=(100.0, 200.0), angle_deg=20.0, length=600.0, width=8.0, size=
     return 0.8 - 0.6 * inside
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", KINDS)
 def test_grey_first_pick_is_correct_on_nearly_every_tray(kind):
     verdicts = [make_tray(kind, seed).judge((find_wires_grey(make_tray(kind, seed).image).candidates or [None])[0])[0]
@@ -62,6 +63,7 @@ def test_boundaries_are_freeman_chains_and_an_isolated_wire_closes():
     assert len(res.candidates) == 2  # both ends
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("method", ["grey", "binary"])
 @pytest.mark.parametrize("px_per_mm", [2.0, 8.0])
 def test_any_scale(method, px_per_mm):
@@ -108,6 +110,7 @@ def test_bad_arrays_and_arguments_are_clear_errors():
         find_wires(np.zeros((64, 64)), "grey", 0.0)
 
 
+@pytest.mark.slow
 def test_a_huge_image_is_handled(capsys):
     tray = make_tray("sparse", 1, size=2048, px_per_mm=16.0)
     res = find_wires(tray.image, "grey", 16.0)

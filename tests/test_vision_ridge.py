@@ -49,6 +49,7 @@ def test_a_resampled_line_runs_evenly_from_end_to_end():
         assert gaps.max() <= 0.25 + 1e-9 and gaps.min() > 0.9 * gaps.max(), length
 
 
+@pytest.mark.slow
 def test_random_trays_are_seeded_and_vary():
     a, b, c = random_tray(11), random_tray(11), random_tray(12)
     assert np.array_equal(a.image, b.image) and not np.array_equal(a.image[:10, :10], c.image[:10, :10])
@@ -92,6 +93,7 @@ def filled(thing, step):
     return np.column_stack([a.ravel(), b.ravel()])
 
 
+@pytest.mark.slow
 def test_ground_truth_agrees_with_an_independent_check_of_every_end():
     # each end's verdict recomputed by brute force from densely sampled centre lines
     for seed in range(8):
@@ -150,6 +152,7 @@ def test_things_on_the_tray_are_measured_from_their_edges():
     assert ground_truth([w], (100.0, 100.0), [screw])[0].graspable
 
 
+@pytest.mark.slow
 def test_the_wires_are_drawn_where_the_ground_truth_says():
     for seed in range(6):
         tray = random_tray(seed, "sparse")
@@ -365,6 +368,7 @@ def first_picks(method: str, seeds) -> dict:
     return counts
 
 
+@pytest.mark.slow
 def test_ridge_on_randomized_trays_it_was_not_tuned_on():
     # 40 trays at seeds the finder was not tuned on (tuning used seeds below 2000); measured
     # 35 correct, 2 foul, 3 miss (33 / 3 / 4 a version earlier): the bars fail on a real regression
@@ -372,12 +376,14 @@ def test_ridge_on_randomized_trays_it_was_not_tuned_on():
     assert c["correct"] >= 33 and c["foul"] <= 4, c
 
 
+@pytest.mark.slow
 def test_ridge_beats_the_papers_systems_on_randomized_trays():
     seeds = range(7100, 7120)
     ridge, grey = first_picks("ridge", seeds), first_picks("grey", seeds)
     assert ridge["correct"] > grey["correct"], (ridge, grey)
 
 
+@pytest.mark.slow
 def test_a_middle_grasp_is_on_a_wire_away_from_its_ends_with_room_round_it():
     """find_middle against the ground truth of randomized trays (seeds not tuned on): the first
     place it offers lies on a wire's centre line (within 1 mm), 13.5 mm or more along it from

@@ -10,9 +10,10 @@ from __future__ import annotations
 
 import inspect
 import typing
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any, Callable, Optional
+from typing import Any
 
 from ..types import INTEGER, NUMBER, REAL, ParamInfo, Type, from_annotation, is_frame
 
@@ -40,8 +41,8 @@ class Builtin:
     name: str
     func: Callable
     params: tuple[ParamInfo, ...]
-    result: Optional[Type]  # None: a procedure
-    variadic: Optional[Type]  # the type of any further arguments, or None
+    result: Type | None  # None: a procedure
+    variadic: Type | None  # the type of any further arguments, or None
     wants_ctx: bool
     doc: str
 
@@ -70,7 +71,7 @@ class Builtin:
         doc = inspect.getdoc(func) or ""
         return cls(name.upper(), func, tuple(params), result, variadic, wants_ctx, doc)
 
-    def result_for(self, arg_types: list[Type]) -> Optional[Type]:
+    def result_for(self, arg_types: list[Type]) -> Type | None:
         """The result type of a call with these argument types (resolves Number)."""
         if self.result is not NUMBER:
             return self.result

@@ -78,12 +78,12 @@ def binwire(ctx, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
 
 
 def findwire(ctx, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
-    """FINDWIRE(VAR W^, VAR WG^): look with the default wire finder (centre lines as ridges, every end checked free); TRUE sets W^ and WG^, FALSE if no graspable end."""
+    """FINDWIRE(VAR W^, VAR WG^): look with the default wire finder (centre lines as ridges, every end checked free); TRUE sets W^ and WG^, FALSE if no graspable end."""  # noqa: E501 - one line: the REPL's :help shows it whole
     return _find(ctx, "ridge", w, wg, "FINDWIRE")
 
 
 def findmiddle(ctx, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
-    """FINDMIDDLE(VAR W^, VAR WG^): look for a place to take a wire by its middle, 15 mm or more from the ends of the lines seen and 8 mm from any crossing, with room for the fingers (for a wire none of whose ends is free: lift it and let it fall in a new shape); TRUE sets W^ there (Z along the wire) and WG^ the grasp at W^'s origin, FALSE if there is none."""
+    """FINDMIDDLE(VAR W^, VAR WG^): look for a place to take a wire by its middle, 15 mm or more from the ends of the lines seen and 8 mm from any crossing, with room for the fingers (for a wire none of whose ends is free: lift it and let it fall in a new shape); TRUE sets W^ there (Z along the wire) and WG^ the grasp at W^'s origin, FALSE if there is none."""  # noqa: E501 - one line: the REPL's :help shows it whole
     return _find(ctx, "middle", w, wg, "FINDMIDDLE")
 
 

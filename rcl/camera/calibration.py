@@ -6,7 +6,6 @@ drive; it is plain Python and usable without RCL.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Optional, Union
 
 import numpy as np
 
@@ -20,8 +19,8 @@ class Calibration:
     def __init__(self, z: float = 0.0) -> None:
         self.z = float(z)  # the tray plane, mm
         self.points: list[tuple[float, float, float, float]] = []
-        self.model: Optional[Union[BicubicWarp, LinearCamera]] = None
-        self.report: Optional[FitReport] = None
+        self.model: BicubicWarp | LinearCamera | None = None
+        self.report: FitReport | None = None
 
     def add_point(self, u: float, v: float, x: float, y: float) -> None:
         values = np.array([u, v, x, y], dtype=float)
@@ -37,12 +36,12 @@ class Calibration:
         self.model, self.report = BicubicWarp.fit(pts[:, :2], pts[:, 2:], self.z)
         return self.report.rms
 
-    def save(self, path: Union[str, Path]) -> None:
+    def save(self, path: str | Path) -> None:
         if self.model is None:
             raise CameraModelError("no camera model to save: fit one first (FITWARP)")
         fileformat.save(path, self.model, self.z, self.report)
 
-    def load(self, path: Union[str, Path]) -> None:
+    def load(self, path: str | Path) -> None:
         self.model, self.z, self.report = fileformat.load(path)
 
     def warp(self, u: float, v: float) -> tuple[float, float, float]:

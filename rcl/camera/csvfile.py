@@ -3,15 +3,15 @@ from __future__ import annotations
 
 import csv
 import math
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence, Union
 
 import numpy as np
 
 from .models import CameraModelError
 
 
-def read_columns(path: Union[str, Path], names: Sequence[str]) -> np.ndarray:
+def read_columns(path: str | Path, names: Sequence[str]) -> np.ndarray:
     """The named columns of a CSV file as an (N, len(names)) float array.
 
     Blank lines and lines starting with # are skipped. Errors name the file and line."""

@@ -17,7 +17,6 @@ import os
 import re
 import stat
 from pathlib import Path
-from typing import Optional, Union
 
 import numpy as np
 
@@ -28,10 +27,10 @@ VERSION = 1
 MAX_BYTES = 1024 * 1024  # a camera-model file is a few kB; a larger one is not one (or a device)
 MAX_NESTING = 8  # a camera-model file nests 3 deep
 
-Model = Union[BicubicWarp, LinearCamera]
+Model = BicubicWarp | LinearCamera
 
 
-def to_json(model: Model, z: float, report: Optional[FitReport]) -> dict:
+def to_json(model: Model, z: float, report: FitReport | None) -> dict:
     doc: dict = {"format": FORMAT, "version": VERSION, "z_mm": float(z)}
     if isinstance(model, BicubicWarp):
         f, b = model.forward, model.backward
@@ -49,7 +48,7 @@ def to_json(model: Model, z: float, report: Optional[FitReport]) -> dict:
     return doc
 
 
-def save(path: Union[str, Path], model: Model, z: float, report: Optional[FitReport]) -> None:
+def save(path: str | Path, model: Model, z: float, report: FitReport | None) -> None:
     text = json.dumps(to_json(model, z, report), indent=2)
     try:
         Path(path).write_text(text + "\n", encoding="utf-8")
@@ -57,7 +56,7 @@ def save(path: Union[str, Path], model: Model, z: float, report: Optional[FitRep
         raise CameraModelError(f"cannot write {path}: {e.strerror or e}") from None
 
 
-def load(path: Union[str, Path]) -> tuple[Model, float, Optional[FitReport]]:
+def load(path: str | Path) -> tuple[Model, float, FitReport | None]:
     """(model, z plane, fit report) from a file; CameraModelError says what is wrong."""
     try:
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))  # a pipe must not block the open
@@ -94,7 +93,7 @@ def _nesting(text: str) -> int:
     return int(np.cumsum(step).max(initial=0))
 
 
-def from_json(doc) -> tuple[Model, float, Optional[FitReport]]:
+def from_json(doc) -> tuple[Model, float, FitReport | None]:
     if not isinstance(doc, dict) or doc.get("format") != FORMAT:
         raise CameraModelError(f"not an RCL camera-model file (no \"format\": \"{FORMAT}\")")
     version = doc.get("version")

@@ -8,7 +8,6 @@ with a message a user can act on.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Union
 
 import numpy as np
 
@@ -22,7 +21,7 @@ class ImageError(ValueError):
 MAX_PIXELS = 40_000_000  # an image larger than this (a 6,300 x 6,300 frame) is no camera's of a tray
 
 
-def read_image(path: Union[str, Path]) -> np.ndarray:
+def read_image(path: str | Path) -> np.ndarray:
     import warnings
 
     from PIL import Image, UnidentifiedImageError

@@ -19,7 +19,6 @@ its contrast with its own surround:
 from __future__ import annotations
 
 import math
-from typing import Optional
 
 import numpy as np
 
@@ -35,7 +34,7 @@ PEAKS = 4  # the strongest peaks taken at each scale
 CANDIDATES = 12  # of those, the strongest tried per polarity
 
 
-def find_mark(image: np.ndarray, polarity: str = "auto") -> Optional[tuple[float, float]]:
+def find_mark(image: np.ndarray, polarity: str = "auto") -> tuple[float, float] | None:
     """(u, v): the centre of the marker disc in pixels (u = column, v = row), or None if none is seen.
 
     polarity: "bright" (a disc lighter than its surround), "dark", or "auto" (either).
@@ -97,7 +96,7 @@ def _peaks(resp: np.ndarray, size: int) -> list[tuple[float, int, int]]:
 
 
 def _disc_at(g: np.ndarray, sign: float, row: int, col: int, r: float,
-             noise: float) -> Optional[tuple[float, tuple[float, float]]]:
+             noise: float) -> tuple[float, tuple[float, float]] | None:
     """(strength, (u, v)) of the disc whose centre-surround peak is near (row, col), or None if
     what is there is not a disc."""
     from scipy import ndimage
@@ -131,7 +130,7 @@ def _disc_at(g: np.ndarray, sign: float, row: int, col: int, r: float,
     return score * contrast, (u + c0, v + r0)
 
 
-def _disc_score(blob: np.ndarray) -> Optional[float]:
+def _disc_score(blob: np.ndarray) -> float | None:
     """How disc-like a blob is (higher is better), or None if it is not a disc at all."""
     area = int(blob.sum())
     if area < MIN_AREA:

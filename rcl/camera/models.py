@@ -16,7 +16,6 @@ coordinates are millimetres.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Optional
 
 import numpy as np
 
@@ -36,7 +35,7 @@ class FitReport:
     points: int
     rms: float
     max: float
-    loo_rms: Optional[float]  # leave-one-out RMS; None when every point is needed
+    loo_rms: float | None  # leave-one-out RMS; None when every point is needed
     residuals: np.ndarray = field(repr=False)  # (N, 2): model minus measured x, y
     condition: float = float("nan")  # condition number of the least-squares design
 

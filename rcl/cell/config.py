@@ -12,7 +12,7 @@ import math
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Optional
+from typing import Any
 
 import numpy as np
 
@@ -65,10 +65,10 @@ class CellConfig:
         return not self.source.startswith(BUILT_IN)
 
     @property
-    def warp(self) -> Optional[Path]:
+    def warp(self) -> Path | None:
         return self.path(self.data["warp"])
 
-    def path(self, text: str) -> Optional[Path]:
+    def path(self, text: str) -> Path | None:
         """A path named in the file, relative to the file's folder; None for ""."""
         if not text:
             return None
@@ -158,7 +158,7 @@ def _merge(into: dict, user: dict, base: dict, source: str, where: str) -> None:
             into[key] = _typed(value, base[key], source, name)
 
 
-def _merge_frame(old: Optional[dict], value: dict, source: str, name: str) -> dict:
+def _merge_frame(old: dict | None, value: dict, source: str, name: str) -> dict:
     frame = copy.deepcopy(old) if old else {"xyz": [0.0, 0.0, 0.0], "rpy": [0.0, 0.0, 0.0]}
     for key, v in value.items():
         if key not in frame:

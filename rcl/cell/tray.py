@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Optional
 
 import numpy as np
 
@@ -58,9 +57,9 @@ class WireTray:
             w.level, w.tip = lk.colour, max(lk.tip_mm)
             self.wires[i + 1], self.looks[i + 1] = w, lk
         self._board_seed = int(rng.integers(2**63))
-        self._board: Optional[np.ndarray] = None
+        self._board: np.ndarray | None = None
         self._dense: dict[int, np.ndarray] = {}
-        self._picture: Optional[np.ndarray] = None
+        self._picture: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.wires)

@@ -31,18 +31,18 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Optional, Sequence
 
 import numpy as np
 
 from ..camera.simulated import PinholeCamera, render_disc
 from ..frame import Frame
 from ..robots import Robot, SimRobot
-from .config import CellConfig
-from .optics import TrayView
 from ..vision.scenes import finish
 from ..vision.synth import Wire, resample
+from .config import CellConfig
+from .optics import TrayView
 from .tray import PICTURE_PX_PER_MM, WireTray
 
 BENCH = (0.35, 0.35, 0.36)  # the bench round the tray
@@ -95,11 +95,11 @@ class Held:
 class Event:
     what: str  # pick (a slip on the way up is a failed pick too), press, bath, release, putback, drop, shake
     ok: bool
-    wire: Optional[int]
+    wire: int | None
     look: int  # the number of the image the task looked at last (1-based; 0: none yet)
     why: str = ""
     time_s: float = 0.0
-    off_mm: Optional[float] = None  # a pick: how far from the wire's centre line the fingers closed
+    off_mm: float | None = None  # a pick: how far from the wire's centre line the fingers closed
 
     def as_dict(self) -> dict:
         d = {"what": self.what, "ok": self.ok, "wire": self.wire, "look": self.look, "why": self.why,
@@ -121,7 +121,7 @@ class SimCell:
     """The simulated cell of a description, with a tray made from seed (wires: (low, high) to
     override the description's count)."""
 
-    def __init__(self, config: CellConfig, seed: int = 0, wires: Optional[Sequence[int]] = None) -> None:
+    def __init__(self, config: CellConfig, seed: int = 0, wires: Sequence[int] | None = None) -> None:
         self.config = config
         cam, tray, robot = config["camera"], config["tray"], config["robot"]
         self.rng = np.random.default_rng([seed, 1])
@@ -136,7 +136,7 @@ class SimCell:
         lens = PinholeCamera.over_tray(centre_xy=tuple(centre), height_mm=cam["height_mm"], fov_mm=cam["fov_mm"],
                                        width=int(cam["width"]), tilt_deg=cam["tilt_deg"], k1=cam["k1"], k2=cam["k2"])
         self.lens = dataclasses.replace(lens, pose=(Frame.trans(0.0, 0.0, self.tray_z) * Frame(lens.pose)).matrix)
-        self._view: Optional[TrayView] = None
+        self._view: TrayView | None = None
         self.Z = config.frame("Z").matrix
         self.E = config.frame("E").matrix
         self.error = Inaccuracy(float(robot["inaccuracy_mm"]), int(robot["seed"]))
@@ -147,10 +147,10 @@ class SimCell:
         self.bath = self._station("BATH") if "BATH" in config["frames"] else None
         self.arm = CellArm(SimRobot(config.model()), self)
         self.camera = CellCamera(self)
-        self.held: Optional[Held] = None
+        self.held: Held | None = None
         self.attempts = 0
         self.events: list[Event] = []
-        self.last_taken: Optional[int] = None  # the wire the fingers' last close on the tray took
+        self.last_taken: int | None = None  # the wire the fingers' last close on the tray took
         self.last_failure = ""  # what failed last, in the words of the events
         self.results: dict[int, str] = {}  # wire -> crimped, tinned, rejected, lost
 
@@ -175,7 +175,7 @@ class SimCell:
         t[:3, 3] += self.error(t[:3, 3]) + self.jitter
         return t
 
-    def _event(self, what: str, ok: bool, wire: Optional[int], why: str = "") -> Event:
+    def _event(self, what: str, ok: bool, wire: int | None, why: str = "") -> Event:
         e = Event(what, ok, wire, self.camera.grabs, why, self.arm.inner.clock)
         self.events.append(e)
         if not ok:
@@ -261,7 +261,7 @@ class SimCell:
         self.held = Held(touch.wire, wire, np.linalg.inv(t) @ world)
         return ""
 
-    def held_points(self, h: Optional[Held] = None) -> np.ndarray:
+    def held_points(self, h: Held | None = None) -> np.ndarray:
         """The held wire's centre line in the world, (N, 3)."""
         return (self.tool() @ (h or self.held).shape)[:3].T
 
@@ -407,7 +407,7 @@ class SimCell:
         }
 
 
-def _held_at(h: Held) -> Optional[int]:
+def _held_at(h: Held) -> int | None:
     """Where along its centre line (index of the 0.25 mm samples) the fingers hold the wire,
     if that is MIDDLE_HOLD_MM or more from both its ends (it hangs from there), else None."""
     i = int(np.argmin(np.linalg.norm(h.shape[:3].T, axis=1)))

@@ -19,9 +19,9 @@ from __future__ import annotations
 
 import math
 import tomllib
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Optional, Sequence
 
 import numpy as np
 
@@ -53,7 +53,7 @@ class ArmModel:
     name: str
     joints: list[Joint]
     home: list[float]
-    solver: Optional[str] = None
+    solver: str | None = None
     table_z: float = 0.0
     linear_speed: float = 250.0
     gripper_seconds: float = 0.5
@@ -234,7 +234,7 @@ def fk(model: ArmModel, q: Sequence[float]) -> np.ndarray:
 # Inverse kinematics ----------------------------------------------------------------
 
 
-def solutions(model: ArmModel, t5: np.ndarray, near: Optional[Sequence[float]] = None) -> list[list[float]]:
+def solutions(model: ArmModel, t5: np.ndarray, near: Sequence[float] | None = None) -> list[list[float]]:
     """Every joint solution (degrees, each within (-180, 180]) of the analytic solver."""
     if model.solver == "5dof":
         thetas = _ik_5dof(model, t5, near)
@@ -269,7 +269,7 @@ def solve(model: ArmModel, t5: np.ndarray, current: Sequence[float]) -> list[flo
     return best
 
 
-def _nearest_equivalent(model: ArmModel, sol: Sequence[float], current: Sequence[float]) -> Optional[list[float]]:
+def _nearest_equivalent(model: ArmModel, sol: Sequence[float], current: Sequence[float]) -> list[float] | None:
     """Each angle moved by whole turns to be nearest the current one and within limits, or None."""
     out = []
     for x, c, j in zip(sol, current, model.joints):

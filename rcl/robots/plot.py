@@ -4,7 +4,7 @@ coloured by kind, and a legend."""
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -49,8 +49,10 @@ def plot_path(motions: Sequence[tuple[str, np.ndarray]], path: str, title: str) 
         ca, cb = (a.max() + a.min()) / 2, (b.max() + b.min()) / 2
         scale = min(right - left, bottom - top) / span
 
-        def at(p: float, q: float) -> tuple[float, float]:
-            return ((left + right) / 2 + (p - ca) * scale, (top + bottom) / 2 - (q - cb) * scale)
+        mid_x, mid_y = (left + right) / 2, (top + bottom) / 2
+
+        def at(p: float, q: float, mid_x=mid_x, mid_y=mid_y, ca=ca, cb=cb, scale=scale) -> tuple[float, float]:
+            return (mid_x + (p - ca) * scale, mid_y - (q - cb) * scale)
 
         step = nice_step(span)
         lo_a, hi_a = ca - (right - left) / 2 / scale, ca + (right - left) / 2 / scale

@@ -6,7 +6,7 @@ kinematic simulator is configured, and the test double for motion built-ins.
 """
 from __future__ import annotations
 
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 import threading
-from typing import Sequence, Type
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -24,7 +24,7 @@ READ_TIMEOUT = 0.1  # one pyserial read; the driver's answer_timeout bounds a wh
 
 class SerialRobot(Robot):
     def __init__(self, url: str, model: ArmModel | str = "al5d", baud: int | None = None,
-                 driver: Type[Driver] = SSC32, answer_timeout: float = 2.0) -> None:
+                 driver: type[Driver] = SSC32, answer_timeout: float = 2.0) -> None:
         import serial
 
         self.model = load_model(model) if isinstance(model, str) else model

@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import math
 from functools import lru_cache
-from typing import Optional
 
 import numpy as np
 
@@ -164,8 +163,8 @@ class BinaryResult:
     def __init__(self) -> None:
         self.candidates: list[Sighting] = []
         self.timings: dict[str, float] = {}
-        self.mask: Optional[np.ndarray] = None
-        self.skeleton: Optional[np.ndarray] = None
+        self.mask: np.ndarray | None = None
+        self.skeleton: np.ndarray | None = None
         self.scale = 1  # averaged pixels per input pixel
         self.dark_wires = True
 

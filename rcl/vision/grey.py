@@ -40,7 +40,6 @@ from __future__ import annotations
 
 import math
 import time
-from typing import Optional
 
 import numpy as np
 
@@ -199,7 +198,7 @@ class _Tracer:
     def __init__(self, gc: np.ndarray, gr: np.ndarray, mag: np.ndarray, threshold: float) -> None:
         h, w = mag.shape
         self.W = w + 2 * PAD
-        pad = lambda a: np.pad(a, PAD).ravel()  # noqa: E731
+        pad = lambda a: np.pad(a, PAD).ravel()
         self.mag_np = np.pad(mag, PAD)
         # memoryviews: indexing one gives a Python float, as fast as a list and nothing to convert
         self.mag = memoryview(self.mag_np.astype(np.float64).ravel())
@@ -345,7 +344,7 @@ class _Looks:
     """Reads wire ends off boundaries and tests them on the working image."""
 
     def __init__(self, work: np.ndarray, mag: np.ndarray, threshold: float, ppm: float,
-                 gc: Optional[np.ndarray] = None, gr: Optional[np.ndarray] = None) -> None:
+                 gc: np.ndarray | None = None, gr: np.ndarray | None = None) -> None:
         self.work = work
         self.mag = mag
         self.gc, self.gr = gc, gr
@@ -382,7 +381,7 @@ class _Looks:
                 out.append(s)
         return out
 
-    def _end(self, pts: np.ndarray, tip: int, unit: float, closed: bool) -> Optional[Sighting]:
+    def _end(self, pts: np.ndarray, tip: int, unit: float, closed: bool) -> Sighting | None:
         ppm = self.ppm
         n = len(pts)
         reach = int(math.ceil((SPAN_MM + 4.0) * ppm * 1.2))
@@ -468,7 +467,7 @@ class _Looks:
                         tangent, score=clearance)
 
     def _clearance(self, centre: np.ndarray, arc: np.ndarray, width: float, end: np.ndarray,
-                   inward: np.ndarray, own: float = 0.0) -> Optional[float]:
+                   inward: np.ndarray, own: float = 0.0) -> float | None:
         """The isolation test. The smallest free distance (mm) beside the wire near the grasp
         point, or None when another boundary comes too close anywhere along the span.
 
