@@ -23,10 +23,6 @@ class Span:
         return Span(self.line, self.col, other.end_line, other.end_col)
 
 
-def _annotation(default=None):
-    return field(default=default, repr=False, compare=False, kw_only=True)
-
-
 @dataclass(eq=False)
 class Node:
     span: Span = field(kw_only=True)
@@ -78,7 +74,7 @@ class ArrayTypeExpr(TypeExpr):
 
 @dataclass(eq=False)
 class Expr(Node):
-    type: Any = _annotation()  # set by the checker
+    type: Any = field(default=None, repr=False, compare=False, kw_only=True)  # set by the checker
 
 
 @dataclass(eq=False)
@@ -104,7 +100,8 @@ class Boolean(Expr):
 @dataclass(eq=False)
 class Name(Expr):
     ident: Ident
-    symbol: Any = _annotation()  # set by the checker: a variable, constant or routine
+    # set by the checker: a variable, constant or routine
+    symbol: Any = field(default=None, repr=False, compare=False, kw_only=True)
 
 
 @dataclass(eq=False)
@@ -123,7 +120,7 @@ class Index(Expr):
 class Call(Expr):
     callee: Ident
     args: list[Expr]
-    symbol: Any = _annotation()  # set by the checker: the routine or built-in
+    symbol: Any = field(default=None, repr=False, compare=False, kw_only=True)  # set by the checker: the routine or built-in
 
 
 @dataclass(eq=False)
@@ -131,7 +128,7 @@ class BinOp(Expr):
     op: str  # upper case: + - * / DIV MOD = <> < <= > >= AND OR
     left: Expr
     right: Expr
-    op_span: Span = _annotation()
+    op_span: Span = field(default=None, repr=False, compare=False, kw_only=True)  # type: ignore[assignment]
 
 
 @dataclass(eq=False)
@@ -189,13 +186,14 @@ class For(Stmt):
     step: Expr | None
     down: bool
     body: Block
-    symbol: Any = _annotation()
+    symbol: Any = field(default=None, repr=False, compare=False, kw_only=True)
 
 
 @dataclass(eq=False)
 class Return(Stmt):
     value: Expr | None
-    result_type: Any = _annotation()  # set by the checker: the routine's result type
+    # set by the checker: the routine's result type
+    result_type: Any = field(default=None, repr=False, compare=False, kw_only=True)
 
 
 @dataclass(eq=False)
@@ -214,28 +212,29 @@ class Solve(Stmt):
     lhs: Expr
     rhs: Expr
     unknown: Ident
-    solution: Any = _annotation()  # set by the checker: an Expr computing the unknown
-    symbol: Any = _annotation()
+    # set by the checker: an Expr computing the unknown
+    solution: Any = field(default=None, repr=False, compare=False, kw_only=True)
+    symbol: Any = field(default=None, repr=False, compare=False, kw_only=True)
 
 
 @dataclass(eq=False)
 class Import(Stmt):
     name: str
-    module: Any = _annotation()  # set by the loader: the imported Module, or None
+    module: Any = field(default=None, repr=False, compare=False, kw_only=True)  # set by the loader: the imported Module, or None
 
 
 @dataclass(eq=False)
 class VarDecl(Stmt):
     names: list[Ident]
     type: TypeExpr | None
-    symbols: Any = _annotation()
+    symbols: Any = field(default=None, repr=False, compare=False, kw_only=True)
 
 
 @dataclass(eq=False)
 class ConstDecl(Stmt):
     name: Ident
     value: Expr
-    symbol: Any = _annotation()
+    symbol: Any = field(default=None, repr=False, compare=False, kw_only=True)
 
 
 @dataclass(eq=False)
@@ -252,7 +251,7 @@ class RoutineDecl(Stmt):
     params: list[list[Param]]  # the groups between semicolons
     result: TypeExpr | None
     body: Block
-    symbol: Any = _annotation()
+    symbol: Any = field(default=None, repr=False, compare=False, kw_only=True)
 
 
 @dataclass(eq=False)

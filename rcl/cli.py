@@ -405,6 +405,7 @@ def _calib_fit(args) -> int:
     from .camera import BicubicWarp, CameraModelError, LinearCamera, fileformat
     from .camera.csvfile import read_columns
 
+    model: BicubicWarp | LinearCamera
     try:
         if args.model == "warp":
             pts = read_columns(args.points, ("u", "v", "x", "y"))

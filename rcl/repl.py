@@ -320,7 +320,7 @@ class Repl:
 
         path = history_path()
         history = FileHistory(str(path)) if path is not None else InMemoryHistory()
-        prompt = PromptSession(multiline=True, key_bindings=keys, lexer=PygmentsLexer(RclLexer),
+        prompt: PromptSession = PromptSession(multiline=True, key_bindings=keys, lexer=PygmentsLexer(RclLexer),
                                completer=RclCompleter(), history=history, input=input, output=output,
                                prompt_continuation=lambda width, line, soft: CONTINUATION)
         self.say(banner())

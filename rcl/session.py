@@ -200,6 +200,7 @@ class Session:
             self._values.append(None)
         elif v.kind == "const":
             raise TypeError(f"{v.name} is a constant")
+        assert v.type is not None  # a variable always has one
         self._values[v.slot] = _to_rcl(value, v.type, v.name)
 
     set = __setitem__
@@ -417,7 +418,8 @@ def _to_rcl(value: Any, t: T.Type, name: str) -> Any:
             return float(value)
         if t == T.STRING and isinstance(value, str):
             return value
-        if isinstance(t, T.ArrayType) and isinstance(value, (list, tuple, Array)):
+        if isinstance(t, T.ArrayType) and t.low is not None and t.high is not None \
+                and isinstance(value, (list, tuple, Array)):
             items = value.items if isinstance(value, Array) else list(value)
             size = t.high - t.low + 1
             if len(items) != size:

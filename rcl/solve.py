@@ -77,10 +77,10 @@ def _isolate(terms: list[A.Expr], value: A.Expr, key: str, span: A.Span) -> A.Ex
         value = A.BinOp("*", _inv(_product(terms[:k], span), span), value, span=span, op_span=span)
     if k < len(terms) - 1:
         value = A.BinOp("*", value, _inv(_product(terms[k + 1:], span), span), span=span, op_span=span)
-    term: A.Expr | None = terms[k]
+    term = terms[k]
     if isinstance(term, A.Name):
         return value
-    if _is_inv(term):
+    if isinstance(term, A.Call) and _is_inv(term):
         return _isolate(factors(term.args[0]), _inv(value, span), key, span)
     what = f"a call to {term.callee.text}" if isinstance(term, A.Call) else "an expression"
     raise SolveError(f"SOLVE can only undo products and INV, but the unknown is inside {what}", term.span)

@@ -110,7 +110,7 @@ def is_numeric(t: Type) -> bool:
 def element_count(t: Type) -> int:
     """How many elements a value of t holds: 1 for a scalar, nested arrays counted whole."""
     n = 1
-    while isinstance(t, ArrayType) and not t.is_open:
+    while isinstance(t, ArrayType) and t.low is not None and t.high is not None:
         n *= t.high - t.low + 1
         t = t.element
     return n
@@ -199,7 +199,13 @@ T = TypeVar("T")
 
 
 class Var(Generic[T]):
-    """Annotation: a VAR (by-reference) parameter; the built-in receives a Ref."""
+    """Annotation: a VAR (by-reference) parameter; the built-in receives a Ref, which has these."""
+
+    def get(self) -> T:
+        raise NotImplementedError
+
+    def set(self, value: T) -> None:
+        raise NotImplementedError
 
 
 class Number:

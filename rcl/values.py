@@ -59,11 +59,13 @@ def default_factory(t: Type) -> Callable[[], Any]:
     move to a frame nobody set.
     """
     if isinstance(t, ArrayType):
+        assert t.low is not None and t.high is not None, "an open array is a parameter's type, never a variable's"
         size = t.high - t.low + 1
         element = default_factory(t.element)
         low = t.low
         return lambda: Array(low, [element() for _ in range(size)])
-    value = {INTEGER: 0, REAL: 0.0, BOOLEAN: False, STRING: "", VECTOR: _ZERO_VECTOR}.get(t)
+    defaults: dict[Type, Any] = {INTEGER: 0, REAL: 0.0, BOOLEAN: False, STRING: "", VECTOR: _ZERO_VECTOR}
+    value = defaults.get(t)
     return lambda: value
 
 

@@ -62,8 +62,12 @@ def open_cell(path: str | Path | CellConfig | None = None, seed: int = 0,
     from .robots import SimRobot
 
     robot_cfg = config["robot"]
+    folder = config.path(config["camera"]["folder"])
+    if folder is None:
+        raise CellSetupError(f"{config.source}: camera: a files camera needs its folder (camera.folder)")
+    robot: Any
     try:
-        camera = ImageFiles(config.path(config["camera"]["folder"]))
+        camera = ImageFiles(folder)
     except ImageError as e:
         raise CellSetupError(f"{config.source}: camera: {e}") from None
     try:

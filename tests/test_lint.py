@@ -1,8 +1,8 @@
-"""The code passes ruff with the project's rules ([tool.ruff] in pyproject.toml): CI runs it
-through this test, so the README's one test command checks lint too."""
+"""The code passes ruff and mypy with the project's settings ([tool.ruff], [tool.mypy] in
+pyproject.toml): CI runs them through these tests, so the README's one test command checks them."""
 from __future__ import annotations
 
-import shutil
+import importlib.util
 import subprocess
 import sys
 from pathlib import Path
@@ -12,12 +12,18 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 
 
+def _run(tool: str, *args: str) -> subprocess.CompletedProcess:
+    if importlib.util.find_spec(tool) is None:
+        pytest.skip(f"{tool} is not installed (pip install '.[test]')")
+    return subprocess.run([sys.executable, "-m", tool, *args], cwd=ROOT, capture_output=True, text=True, check=False)
+
+
 def test_ruff_finds_nothing():
-    try:
-        import ruff  # noqa: F401 - installed with the test extra
-    except ImportError:
-        if shutil.which("ruff") is None:
-            pytest.skip("ruff is not installed (pip install '.[test]')")
-    r = subprocess.run([sys.executable, "-m", "ruff", "check", "--no-cache", "rcl", "tests", "benchmarks"],
-                       cwd=ROOT, capture_output=True, text=True, check=False)
+    r = _run("ruff", "check", "--no-cache", "rcl", "tests", "benchmarks")
+    assert r.returncode == 0, r.stdout + r.stderr
+
+
+@pytest.mark.slow
+def test_mypy_finds_nothing():
+    r = _run("mypy", "--no-incremental")  # the files and settings: [tool.mypy] in pyproject.toml
     assert r.returncode == 0, r.stdout + r.stderr

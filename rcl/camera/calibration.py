@@ -26,7 +26,7 @@ class Calibration:
         values = np.array([u, v, x, y], dtype=float)
         if not np.all(np.isfinite(values)):
             raise CameraModelError(f"a calibration point must be finite numbers, not ({u}, {v}, {x}, {y})")
-        self.points.append(tuple(float(t) for t in values))
+        self.points.append((float(values[0]), float(values[1]), float(values[2]), float(values[3])))
 
     def fit(self) -> float:
         """Fit the bicubic warp to the points added; the RMS residual in mm."""

@@ -17,6 +17,7 @@ import os
 import re
 import stat
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -159,7 +160,7 @@ def _section(doc: dict, key: str) -> dict:
 
 
 def _number(doc: dict, key: str) -> float:
-    value = doc.get(key)
+    value: Any = doc.get(key)
     if not _finite(value):
         raise CameraModelError(f"\"{key}\" must be a finite number, not {str(value)[:40]}")
     return float(value)

@@ -256,7 +256,7 @@ class LinearCamera:
         camera, cond = cls._solve(xyz, uv)
         x_hat, y_hat = camera.inverse_perspective(uv[:, 0], uv[:, 1], xyz[:, 2])
         residuals = np.stack([x_hat - xyz[:, 0], y_hat - xyz[:, 1]], axis=1)
-        loo = []
+        loo: list[float] = []
         if len(uv) > 6:
             for i in range(len(uv)):
                 keep = np.arange(len(uv)) != i

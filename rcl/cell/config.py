@@ -107,11 +107,12 @@ def load_config(path: str | Path | None = None, arm: str | None = None) -> CellC
     base = _read(DEFAULT)
     if path is None:
         data, source, folder = base, BUILT_IN, Path.cwd()
-        layout = DEFAULT.with_name(f"sim-{arm.lower()}.toml") if arm and is_name(arm) else None
-        if layout is not None and layout.is_file():
+        key = arm.lower() if arm is not None and is_name(arm) else ""
+        layout = DEFAULT.with_name(f"sim-{key}.toml")
+        if key and layout.is_file():
             data = copy.deepcopy(base)
             _merge(data, _read(layout), base, str(layout), "")
-            source = f"{BUILT_IN} laid out for {arm.lower()}"
+            source = f"{BUILT_IN} laid out for {key}"
         elif arm:
             data["robot"]["model"] = arm
     else:

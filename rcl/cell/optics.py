@@ -45,7 +45,8 @@ class TrayView:
         cols = (self.x - origin_xy[0]) * px_per_mm - 0.5
         rows = (self.y - origin_xy[1]) * px_per_mm - 0.5
         if picture.ndim == 2:
-            return ndimage.map_coordinates(picture, [rows, cols], order=1, mode="constant", cval=float(background))
+            grey = float(np.mean(background))  # a colour background on a grey picture: its grey
+            return ndimage.map_coordinates(picture, [rows, cols], order=1, mode="constant", cval=grey)
         bg = np.broadcast_to(np.asarray(background, float), (picture.shape[2],))
         return np.stack([ndimage.map_coordinates(picture[..., c], [rows, cols], order=1, mode="constant",
                                                  cval=float(bg[c])) for c in range(picture.shape[2])], axis=-1)

@@ -266,6 +266,7 @@ def solve(model: ArmModel, t5: np.ndarray, current: Sequence[float]) -> list[flo
             model.check_limits(q)
         except RobotError as e:
             raise IKError(f"every way of reaching the pose breaks a joint limit: {e}") from None
+        raise IKError("no joint angles within the limits reach the pose")
     return best
 
 
@@ -316,7 +317,8 @@ def _ik_5dof(model: ArmModel, t: np.ndarray, near) -> list[list[float]]:
         base = math.atan2(ay, ax)
     else:
         base = math.radians((near[0] if near is not None else 0.0) + j1.offset)
-    out, problem = [], None
+    out: list[list[float]] = []
+    problem = IKError("the pose is out of reach")  # replaced by why each way fails
     for t1 in (base, base + math.pi):
         c1, s1 = math.cos(t1), math.sin(t1)
         lean = math.degrees(math.asin(max(-1.0, min(1.0, s1 * ax - c1 * ay))))
@@ -420,6 +422,7 @@ def _numerical(model: ArmModel, t5: np.ndarray, current: Sequence[float]) -> lis
             best = (res.cost, res.x, pos_err, float(np.linalg.norm(res.fun[3:]) / scale))
         if pos_err < POSITION_TOLERANCE_MM and best[3] < 1e-8:
             return [float(x) for x in res.x]
+    assert best is not None  # starts is never empty
     _, q, pos_err, rot_err = best
     raise IKError(f"no joint angles within the limits reach the pose (best: {pos_err:.3g} mm and "
                   f"{math.degrees(rot_err):.3g} degrees off)")

@@ -42,7 +42,7 @@ class Planner:
         p0, p1 = here[:3, 3], t5[:3, 3]
         rots = Rotation.from_matrix(np.stack([here[:3, :3], t5[:3, :3]]))
         turn = math.degrees(float((rots[0].inv() * rots[1]).magnitude()))
-        n = max(1, math.ceil(max(np.linalg.norm(p1 - p0) / LINE_STEP_MM, turn / LINE_STEP_DEG)))
+        n = max(1, math.ceil(max(float(np.linalg.norm(p1 - p0)) / LINE_STEP_MM, turn / LINE_STEP_DEG)))
         slerp = Slerp([0.0, 1.0], rots)
         path = [list(start)]
         for k in range(1, n + 1):

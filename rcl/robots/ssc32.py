@@ -28,6 +28,10 @@ class Driver(ABC):
     """What SerialRobot needs from a controller protocol."""
 
     @abstractmethod
+    def __init__(self, port, model: ArmModel, answer_timeout: float) -> None:
+        """Speak the protocol on an open port for an arm of the model, waiting answer_timeout s at most."""
+
+    @abstractmethod
     def connect(self) -> None:
         """Check that the controller answers (RobotError if not)."""
 
