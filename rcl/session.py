@@ -29,10 +29,11 @@ from . import types as T
 from .ast import Span
 from .builtins import Builtin, default_builtins
 from .checker import Checker
+from .context import Context
 from .errors import Diagnostic, RclCancelled, RclError, RclRuntimeError, RclStaticError
 from .files import Files
 from .frame import Frame, FrameError
-from .interpreter import Compiler, Context
+from .interpreter import Compiler
 from .keywords import is_name
 from .loader import describe_read_error, load, read_source
 from .robots import SimRobot

@@ -16,6 +16,22 @@ from .frame import Frame
 from .types import BOOLEAN, INTEGER, REAL, STRING, VECTOR, ArrayType, Type
 
 
+class Ref:
+    """A reference to a variable or array element, as a VAR parameter receives it."""
+
+    __slots__ = ("c", "i")
+
+    def __init__(self, container: list, index: int) -> None:
+        self.c = container
+        self.i = index
+
+    def get(self) -> Any:
+        return self.c[self.i]
+
+    def set(self, value: Any) -> None:
+        self.c[self.i] = value
+
+
 class Array:
     """A fixed-size RCL array: its low bound and its elements."""
 

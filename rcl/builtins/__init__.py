@@ -3,8 +3,8 @@
 Each domain module (core, motion, vision, camera) holds one explicit table
 ``BUILTINS = {"RCL NAME": function}``. A function's annotations are its RCL
 signature (see rcl.types) and its docstring is its help text. A function
-whose first parameter is named ``ctx`` receives the running Context (output
-stream, robot, camera, the error being handled).
+whose first parameter is ``ctx: Context`` (rcl.context) receives the running Context
+(output stream, robot, camera, the error being handled).
 """
 from __future__ import annotations
 
@@ -13,25 +13,8 @@ import typing
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any
 
 from ..types import INTEGER, NUMBER, REAL, ParamInfo, Type, from_annotation, is_frame
-
-
-class Ref:
-    """A reference to a variable or array element, as a VAR parameter receives it."""
-
-    __slots__ = ("c", "i")
-
-    def __init__(self, container: list, index: int) -> None:
-        self.c = container
-        self.i = index
-
-    def get(self) -> Any:
-        return self.c[self.i]
-
-    def set(self, value: Any) -> None:
-        self.c[self.i] = value
 
 
 @dataclass(eq=False)

@@ -8,13 +8,14 @@ from __future__ import annotations
 import numpy as np
 
 from ..camera import CameraModelError, ImageError, find_mark
+from ..context import Context
 from ..errors import BuiltinError
 from ..files import FileRefused
 from ..frame import Vector, vec
 from ..types import Var
 
 
-def _model(ctx, name: str):
+def _model(ctx: Context, name: str):
     if ctx.camera_model is None:
         raise BuiltinError(f"{name}: this session has no camera model")
     return ctx.camera_model
@@ -27,7 +28,7 @@ def _call(name: str, action, *args):
         raise BuiltinError(f"{name}: {e}") from None
 
 
-def grab(ctx, name: str):
+def grab(ctx: Context, name: str):
     """A fresh image from the session's camera."""
     if ctx.camera is None:
         raise BuiltinError(f"{name}: this session has no camera to look with")
@@ -41,17 +42,17 @@ def grab(ctx, name: str):
     return image
 
 
-def calpoint(ctx, u: float, v: float, x: float, y: float) -> None:
+def calpoint(ctx: Context, u: float, v: float, x: float, y: float) -> None:
     """CALPOINT(u, v, x, y): add a correspondence: image point (u, v) px is tray point (x, y) mm."""
     _call("CALPOINT", _model(ctx, "CALPOINT").add_point, u, v, x, y)
 
 
-def fitwarp(ctx) -> float:
+def fitwarp(ctx: Context) -> float:
     """FITWARP(): fit the bicubic warp to the points added; gives the RMS residual in mm."""
     return float(_call("FITWARP", _model(ctx, "FITWARP").fit))
 
 
-def _file(ctx, name: str, path: str, writing: bool = False):
+def _file(ctx: Context, name: str, path: str, writing: bool = False):
     """The real path of a file the program names, if it may touch it (rcl.files)."""
     try:
         return ctx.files.resolve(path, writing)
@@ -59,30 +60,30 @@ def _file(ctx, name: str, path: str, writing: bool = False):
         raise BuiltinError(f"{name}: {e}") from None
 
 
-def loadwarp(ctx, path: str) -> None:
+def loadwarp(ctx: Context, path: str) -> None:
     """LOADWARP(path): load a camera-model file (a warp or a linear camera)."""
     model = _model(ctx, "LOADWARP")
     _call("LOADWARP", model.load, _file(ctx, "LOADWARP", path))
 
 
-def savewarp(ctx, path: str) -> None:
+def savewarp(ctx: Context, path: str) -> None:
     """SAVEWARP(path): save the fitted camera model to a file."""
     model = _model(ctx, "SAVEWARP")
     _call("SAVEWARP", model.save, _file(ctx, "SAVEWARP", path, writing=True))
 
 
-def filepath(ctx, path: str) -> str:
+def filepath(ctx: Context, path: str) -> str:
     """FILEPATH(name): the full path a file name stands for, where LOADWARP reads it and SAVEWARP writes it."""
     return str(_file(ctx, "FILEPATH", path))
 
 
-def warp(ctx, u: float, v: float) -> Vector:
+def warp(ctx: Context, u: float, v: float) -> Vector:
     """WARP(u, v): the tray-plane point (mm) seen at image point (u, v) px."""
     x, y, z = _call("WARP", _model(ctx, "WARP").warp, u, v)
     return vec(x, y, z)
 
 
-def findmark(ctx, u: Var[float], v: Var[float]) -> bool:
+def findmark(ctx: Context, u: Var[float], v: Var[float]) -> bool:
     """FINDMARK(VAR u, VAR v): find the calibration marker in a fresh image; TRUE sets its centre (px)."""
     found = _call("FINDMARK", find_mark, grab(ctx, "FINDMARK"))
     if found is None:

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 
+from ..context import Context
 from ..errors import BuiltinError
 from ..frame import Frame, Vector, vec
 from ..types import AnyArray, Number, Printable
@@ -216,7 +217,7 @@ def high(a: AnyArray) -> int:
     return a.low + len(a.items) - 1
 
 
-def errmsg(ctx) -> str:
+def errmsg(ctx: Context) -> str:
     """ERRMSG(): inside EXCEPT, the message of the error being handled ('' elsewhere)."""
     return ctx.errmsgs[-1] if ctx.errmsgs else ""
 
@@ -224,12 +225,12 @@ def errmsg(ctx) -> str:
 # Output ------------------------------------------------------------------
 
 
-def write(ctx, *args: Printable) -> None:
+def write(ctx: Context, *args: Printable) -> None:
     """WRITE(args...): write the arguments with no separator."""
     ctx.out.write("".join(format_value(a) for a in args))
 
 
-def writeln(ctx, *args: Printable) -> None:
+def writeln(ctx: Context, *args: Printable) -> None:
     """WRITELN(args...): write the arguments, then a newline."""
     ctx.out.write("".join(format_value(a) for a in args) + "\n")
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 import math
 from typing import Annotated
 
+from ..context import Context
 from ..errors import BuiltinError
 from ..frame import Frame, FrameError
 from ..robots import RobotError
@@ -14,7 +15,7 @@ from ..values import Array
 BaseToT5 = Annotated[Frame, "base -> t5"]
 
 
-def _robot(ctx):
+def _robot(ctx: Context):
     if ctx.robot is None:
         raise BuiltinError("this session has no robot")
     return ctx.robot
@@ -37,38 +38,38 @@ def _target(name: str, t5: Frame):
     return m
 
 
-def move(ctx, t5: BaseToT5) -> None:
+def move(ctx: Context, t5: BaseToT5) -> None:
     """MOVE(T5^): joint-interpolated move of the manipulator end to T5^ (robot base coordinates)."""
     _do(_robot(ctx).move, _target("MOVE", t5))
 
 
-def moves(ctx, t5: BaseToT5) -> None:
+def moves(ctx: Context, t5: BaseToT5) -> None:
     """MOVES(T5^): straight-line move of the manipulator end to T5^."""
     _do(_robot(ctx).moves, _target("MOVES", t5))
 
 
-def speed(ctx, percent: float) -> None:
+def speed(ctx: Context, percent: float) -> None:
     """SPEED(percent): the speed of later motions, 1 to 100 percent of the maximum."""
     robot = _robot(ctx)
     _do(lambda: robot.speed(checked_speed(percent)))  # checked here too: for any backend
 
 
-def open_(ctx) -> None:
+def open_(ctx: Context) -> None:
     """OPEN: open the gripper."""
     _do(_robot(ctx).open)
 
 
-def close(ctx) -> None:
+def close(ctx: Context) -> None:
     """CLOSE: close the gripper."""
     _do(_robot(ctx).close)
 
 
-def home(ctx) -> None:
+def home(ctx: Context) -> None:
     """HOME: move to the home position."""
     _do(_robot(ctx).home)
 
 
-def here(ctx) -> BaseToT5:
+def here(ctx: Context) -> BaseToT5:
     """HERE^(): the current pose of T5 (robot base coordinates)."""
     try:
         return Frame(_do(_robot(ctx).here))
@@ -76,19 +77,19 @@ def here(ctx) -> BaseToT5:
         raise BuiltinError(f"the robot reported a pose that is not a frame: {e}") from None
 
 
-def delay(ctx, seconds: float) -> None:
+def delay(ctx: Context, seconds: float) -> None:
     """DELAY(seconds): wait (simulated time on a simulator)."""
     if not (seconds >= 0.0 and math.isfinite(seconds)):
         raise BuiltinError(f"DELAY takes a finite number of seconds >= 0, not {seconds:g}")
     _do(_robot(ctx).delay, seconds)
 
 
-def jmove(ctx, q: list[float]) -> None:
+def jmove(ctx: Context, q: list[float]) -> None:
     """JMOVE(q): move to joint angles (degrees), one array element per axis."""
     _do(_robot(ctx).jmove, list(q.items))
 
 
-def joints(ctx, q: Var[list[float]]) -> None:
+def joints(ctx: Context, q: Var[list[float]]) -> None:
     """JOINTS(VAR q): read the joint angles (degrees) into q, one element per axis."""
     values = _do(_robot(ctx).joints)
     target: Array = q.get()

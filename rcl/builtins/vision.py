@@ -15,6 +15,7 @@ from typing import Annotated
 import numpy as np
 
 from ..camera import CameraModelError
+from ..context import Context
 from ..errors import BuiltinError
 from ..frame import Frame
 from ..types import Var
@@ -53,7 +54,7 @@ def _tray_direction(model, uv, angle_deg: float) -> np.ndarray:
     return d / n
 
 
-def _find(ctx, method: str, w: Var[Frame], wg: Var[Frame], name: str) -> bool:
+def _find(ctx: Context, method: str, w: Var[Frame], wg: Var[Frame], name: str) -> bool:
     if ctx.wire_finder is None:
         raise BuiltinError(f"{name}: this session has no {method} wire finder")
     image = grab(ctx, name)
@@ -72,22 +73,22 @@ def _find(ctx, method: str, w: Var[Frame], wg: Var[Frame], name: str) -> bool:
     return True
 
 
-def binwire(ctx, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
+def binwire(ctx: Context, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
     """BINWIRE(VAR W^, VAR WG^): look with the binary pipeline; TRUE sets W^ and WG^, FALSE if no graspable end."""
     return _find(ctx, "binary", w, wg, "BINWIRE")
 
 
-def findwire(ctx, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
+def findwire(ctx: Context, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
     """FINDWIRE(VAR W^, VAR WG^): look with the default wire finder (centre lines as ridges, every end checked free); TRUE sets W^ and WG^, FALSE if no graspable end."""  # noqa: E501 - one line: the REPL's :help shows it whole
     return _find(ctx, "ridge", w, wg, "FINDWIRE")
 
 
-def findmiddle(ctx, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
+def findmiddle(ctx: Context, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
     """FINDMIDDLE(VAR W^, VAR WG^): look for a place to take a wire by its middle, 15 mm or more from the ends of the lines seen and 8 mm from any crossing, with room for the fingers (for a wire none of whose ends is free: lift it and let it fall in a new shape); TRUE sets W^ there (Z along the wire) and WG^ the grasp at W^'s origin, FALSE if there is none."""  # noqa: E501 - one line: the REPL's :help shows it whole
     return _find(ctx, "middle", w, wg, "FINDMIDDLE")
 
 
-def greywire(ctx, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
+def greywire(ctx: Context, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
     """GREYWIRE(VAR W^, VAR WG^): look with the grey-scale pipeline; TRUE sets W^ and WG^, FALSE if no graspable end."""
     return _find(ctx, "grey", w, wg, "GREYWIRE")
 
