@@ -57,6 +57,17 @@ END_TURN_TOL = 40.0  # degrees from an exact reversal that still count as one
 ENOUGH = 3  # free ends to find before the search stops
 EDGE_NOISE_FACTOR = 3.5  # edge threshold, in units of the noise's edge magnitude
 SHADOW_EDGE = 0.2  # beside a wire, an edge fainter than this part of its own, going on away from its level, is its shadow
+SIDES_PAST_MM = 4.0  # a wire's sides are followed this far past the span
+SIDES_SLACK = 1.2  # ... and this much farther again, as the boundary is longer than the wire (steps, bends)
+NEAR_MM = 3.0  # the wire's width is the median over this much either side of the grasp point (and the
+# axis fit skips the first this-many mm, where the end face bends the sides)
+AXIS_FIT_MM = 6.0  # the wire's axis near its end: fitted over this much of the centre line
+MAX_WIDTH_MM = 4.0  # wider than this is no wire (the widest are 3 mm)
+SPAN_SEEN = 0.95  # the centre line must reach this share of the span (pixel steps shorten it a little)
+PARALLEL_TOL_PX = 1.5  # the sides are parallel while the width stays within this (px) of the wire's ...
+PARALLEL_TOL_SHARE = 0.35  # ... or this share of it, whichever is more
+TANGENT_MM = 3.0  # the tangent at the grasp point: over the centre line this far either side
+BORDER_MM = 3.0  # the end and the span at least this far from the image's border
 
 # Freeman chain code directions: 0 = E, anticlockwise as seen on the screen (row - 1 is up).
 STEPS = ((0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1), (1, 0), (1, 1))
@@ -382,32 +393,77 @@ class _Looks:
         return out
 
     def _end(self, pts: np.ndarray, tip: int, unit: float, closed: bool) -> Sighting | None:
+        """The wire end the heuristic found at pts[tip], tested as the paper tests it: its two
+        sides followed from the tip, the centre line between them, the end (or its conductor's
+        tip), the sides parallel out to the span, the grasp point, and the span free."""
+        sides = self._sides(pts, tip, unit, closed)
+        if sides is None:
+            return self._no("boundary stops short")
+        fwd, bwd = sides
+        centre, width = _centre_line(fwd, bwd)
         ppm = self.ppm
+        near = max(int(NEAR_MM * ppm), 3)
+        w0 = float(np.median(width[int(GRASP_MM * ppm) - near:int(GRASP_MM * ppm) + near]))  # at the grasp
+        if not 1.0 <= w0 <= MAX_WIDTH_MM * ppm:
+            return self._no("no wire width")
+        end = self._end_face(pts, tip, unit, closed, centre, near, w0)
+        if end is None:
+            return self._no("more than a conductor")
+        end_rc, inward, conductor, dark = end
+        along = (centre - end_rc) @ inward  # distance along the wire from the end (it bends little over the span)
+        grasp_s, span_s = GRASP_MM * ppm, SPAN_MM * ppm
+        if along.max() < span_s * SPAN_SEEN:
+            return self._no("wire too short")
+        if not _parallel(width, along, w0, near, span_s, ppm):
+            return self._no("sides not parallel")
+        at = np.abs(along - grasp_s)
+        grasp = centre[at <= max(at.min(), 1.0)].mean(axis=0)
+        around = centre[at <= TANGENT_MM * ppm]
+        if len(around) < 3:
+            return self._no("no tangent")
+        tvec = principal_direction(around)
+        tangent = math.degrees(math.atan2(tvec[0], tvec[1])) % 180.0
+        end_angle = math.degrees(math.atan2(inward[0], inward[1]))
+        span_pts, arc = _binned(centre, along, ppm, span_s)
+        if conductor is not None:  # the conductor is part of the span that must be free
+            span_pts = np.vstack([conductor, span_pts])
+            arc = np.concatenate([(conductor - end_rc) @ inward, arc])
+        if len(span_pts) < 3:
+            return self._no("no centre line")
+        if self._near_border(span_pts, end_rc):
+            return self._no("too near the border")
+        h, w = self.work.shape
+        side_pts = np.clip(np.round(np.vstack([fwd, bwd])).astype(int), 0, [h - 1, w - 1])
+        own = float(np.median(self.mag[side_pts[:, 0], side_pts[:, 1]]))
+        clearance = self._clearance(span_pts, arc, w0, end_rc, inward, own if dark else -own)
+        if clearance is None:
+            return self._no("not isolated")
+        return Sighting((float(end_rc[1]), float(end_rc[0])), end_angle, (float(grasp[1]), float(grasp[0])),
+                        tangent, score=clearance)
+
+    def _sides(self, pts: np.ndarray, tip: int, unit: float, closed: bool) -> tuple[np.ndarray, np.ndarray] | None:
+        """The boundary followed both ways from the tip far enough to pass the span (the wire's
+        two sides), or None where it stops short of that (the wire is not free)."""
         n = len(pts)
-        reach = int(math.ceil((SPAN_MM + 4.0) * ppm * 1.2))
+        reach = int(math.ceil((SPAN_MM + SIDES_PAST_MM) * self.ppm * SIDES_SLACK))
         if closed:
             ring = pts[:n - int(round(SEGMENT * unit))]
             m = len(ring)
             if m < 2 * reach:
-                return self._no("boundary stops short")
-            fwd = ring[(tip + np.arange(1, reach)) % m]
-            bwd = ring[(tip - np.arange(1, reach)) % m]
-        else:
-            if tip + reach > n or tip - reach < 0:
-                return self._no("boundary stops short")  # before the grasp point: not free
-            fwd = pts[tip + 1:tip + reach]
-            bwd = pts[tip - 1:tip - reach:-1]
-        # pair each point of one side with the nearest of the other: the centre line between
-        d = np.linalg.norm(fwd[:, None, :] - bwd[None, :, :], axis=2)
-        j = np.argmin(d, axis=1)
-        width = d[np.arange(len(fwd)), j]
-        centre = (fwd + bwd[j]) / 2.0
-        near = max(int(3 * ppm), 3)
-        w0 = float(np.median(width[int(GRASP_MM * ppm) - near:int(GRASP_MM * ppm) + near]))  # at the grasp
-        if not 1.0 <= w0 <= 4.0 * ppm:
-            return self._no("no wire width")
-        # the wire's axis near the end, pointing into the wire
-        axis_pts = centre[near:near + int(6 * ppm)]
+                return None
+            return ring[(tip + np.arange(1, reach)) % m], ring[(tip - np.arange(1, reach)) % m]
+        if tip + reach > n or tip - reach < 0:
+            return None  # before the grasp point
+        return pts[tip + 1:tip + reach], pts[tip - 1:tip - reach:-1]
+
+    def _end_face(self, pts, tip, unit, closed, centre, near, w0):
+        """(the end (row, col), the unit direction into the wire, the conductor's centre line or
+        None, whether the wire is darker than the tray): the wire's axis near the end, the end
+        face across it, and past a dark wire's end a stripped conductor or ferrule followed to
+        its tip. None where more than a conductor goes on past the end."""
+        ppm = self.ppm
+        n = len(pts)
+        axis_pts = centre[near:near + int(AXIS_FIT_MM * ppm)]
         inward = principal_direction(axis_pts)
         if (axis_pts[-1] - axis_pts[0]) @ inward < 0:
             inward = -inward
@@ -419,52 +475,21 @@ class _Looks:
         dark = float(np.median(self.work[inner[:, 0], inner[:, 1]])) < self.tray
         tip_rc = conductor_tip(self.work, end_rc, -inward, w0, ppm, self.tray + self.shine) if dark else None
         if tip_rc is False:
-            return self._no("more than a conductor")
+            return None
         conductor = None
         if tip_rc is not None:  # a stripped conductor or ferrule: the end is its tip
             conductor = np.linspace(tip_rc, end_rc, max(int(np.linalg.norm(end_rc - tip_rc)), 2))
             inward = end_rc - tip_rc
             inward = inward / np.linalg.norm(inward)
             end_rc = tip_rc
-        # distance along the wire from the end (the wire bends little over the span)
-        along = (centre - end_rc) @ inward
-        grasp_s, span_s = GRASP_MM * ppm, SPAN_MM * ppm
-        if along.max() < span_s * 0.95:
-            return self._no("wire too short")
-        # the sides must stay parallel and the width constant out to the span: nothing joins
-        # (a stripped conductor or a ferrule may make the first few mm thinner, never wider)
-        inspan = (along > near) & (along < span_s)
-        tol = max(1.5, 0.35 * w0)
-        thinner = inspan & (width < w0 - tol)
-        normal = inspan & ~thinner
-        if not normal.any() or np.any(inspan & (width > w0 + tol)) or (
-                thinner.any() and along[thinner].max() > along[normal].min() + ppm):
-            return self._no("sides not parallel")
-        at = np.abs(along - grasp_s)
-        grasp = centre[at <= max(at.min(), 1.0)].mean(axis=0)
-        around = centre[at <= 3.0 * ppm]
-        if len(around) < 3:
-            return self._no("no tangent")
-        tvec = principal_direction(around)
-        tangent = math.degrees(math.atan2(tvec[0], tvec[1])) % 180.0
-        end_angle = math.degrees(math.atan2(inward[0], inward[1]))
-        margin = 3.0 * ppm
-        span_pts, arc = _binned(centre, along, ppm, span_s)
-        if conductor is not None:  # the conductor is part of the span that must be free
-            span_pts = np.vstack([conductor, span_pts])
-            arc = np.concatenate([(conductor - end_rc) @ inward, arc])
-        if len(span_pts) < 3:
-            return self._no("no centre line")
-        if (span_pts.min() < margin or span_pts[:, 0].max() > h - 1 - margin or span_pts[:, 1].max() > w - 1 - margin
-                or min(end_rc) < margin or end_rc[0] > h - 1 - margin or end_rc[1] > w - 1 - margin):
-            return self._no("too near the border")
-        side_pts = np.clip(np.round(np.vstack([fwd, bwd])).astype(int), 0, [h - 1, w - 1])
-        own = float(np.median(self.mag[side_pts[:, 0], side_pts[:, 1]]))
-        clearance = self._clearance(span_pts, arc, w0, end_rc, inward, own if dark else -own)
-        if clearance is None:
-            return self._no("not isolated")
-        return Sighting((float(end_rc[1]), float(end_rc[0])), end_angle, (float(grasp[1]), float(grasp[0])),
-                        tangent, score=clearance)
+        return end_rc, inward, conductor, dark
+
+    def _near_border(self, span_pts: np.ndarray, end_rc: np.ndarray) -> bool:
+        h, w = self.work.shape
+        margin = BORDER_MM * self.ppm
+        return bool(span_pts.min() < margin or span_pts[:, 0].max() > h - 1 - margin
+                    or span_pts[:, 1].max() > w - 1 - margin
+                    or min(end_rc) < margin or end_rc[0] > h - 1 - margin or end_rc[1] > w - 1 - margin)
 
     def _clearance(self, centre: np.ndarray, arc: np.ndarray, width: float, end: np.ndarray,
                    inward: np.ndarray, own: float = 0.0) -> float | None:
@@ -525,6 +550,25 @@ class _Looks:
 
 def seg_half(unit: float) -> int:
     return max(int(round(SEGMENT * unit / 2)), 4)
+
+
+def _centre_line(fwd: np.ndarray, bwd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(the centre line, the width) between a wire's two sides: each point of one side paired
+    with the nearest point of the other."""
+    d = np.linalg.norm(fwd[:, None, :] - bwd[None, :, :], axis=2)
+    j = np.argmin(d, axis=1)
+    return (fwd + bwd[j]) / 2.0, d[np.arange(len(fwd)), j]
+
+
+def _parallel(width: np.ndarray, along: np.ndarray, w0: float, near: int, span_s: float, ppm: float) -> bool:
+    """Whether the sides stay parallel, the width w0, out to the span: nothing joins the wire
+    (a stripped conductor or a ferrule may make its first few mm thinner, never wider)."""
+    inspan = (along > near) & (along < span_s)
+    tol = max(PARALLEL_TOL_PX, PARALLEL_TOL_SHARE * w0)
+    thinner = inspan & (width < w0 - tol)
+    normal = inspan & ~thinner
+    return not (not normal.any() or np.any(inspan & (width > w0 + tol)) or (
+        thinner.any() and along[thinner].max() > along[normal].min() + ppm))
 
 
 def _binned(centre: np.ndarray, along: np.ndarray, ppm: float, upto: float) -> tuple[np.ndarray, np.ndarray]:
