@@ -157,3 +157,18 @@ def test_the_readmes_quick_start_is_two_commands_that_install_and_run():
     assert "pip install '.[test]'" in tests and tests.endswith("pytest")
     # the command the CI runs is the README's
     assert "pytest" in (ROOT / ".ci" / "run").read_text(encoding="utf-8")
+
+
+def test_every_benchmark_that_prints_figures_says_which_machine_it_ran_on():
+    # README figures come from benchmarks/*.py; each table starts with the machine and commit
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("machine", ROOT / "benchmarks" / "machine.py")
+    machine = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(machine)
+    line = machine.describe()
+    assert re.match(r"machine: \S+, \d+ cores, \S+, Python [\d.]+, numpy [\d.]+; rcl at commit \S+$", line), line
+    for script in sorted((ROOT / "benchmarks").glob("*.py")):
+        if script.name in ("machine.py", "fuzz.py"):  # fuzz.py prints pytest's verdict, no figures
+            continue
+        assert "print(describe())" in script.read_text(), f"{script.name} does not print the machine it ran on"
