@@ -11,7 +11,7 @@ zero, array bounds, unassigned variables, recursion depth, cancellation).
 from __future__ import annotations
 
 import operator
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 from . import ast as A
@@ -50,6 +50,12 @@ class Compiler:
 
     # Units -----------------------------------------------------------------
 
+    @property
+    def _here(self) -> A.Module:
+        """The module being compiled."""
+        assert self.module is not None, "compiling outside a module"
+        return self.module
+
     def module_code(self, m: A.Module) -> Callable[[], None]:
         self.module, self.routine = m, None
         body = self.block(m.body)
@@ -83,7 +89,7 @@ class Compiler:
 
     def _raiser(self) -> Callable[[str, A.Span], RclRuntimeError]:
         """A function making runtime errors located in the module being compiled."""
-        filename, source, stack = self.module.filename, self.module.source, self.ctx.stack
+        filename, source, stack = self._here.filename, self._here.source, self.ctx.stack
 
         def make(message: str, span: A.Span) -> RclRuntimeError:
             return RclRuntimeError(message, filename, span, source, tuple(stack))
@@ -92,7 +98,7 @@ class Compiler:
     # Statements ------------------------------------------------------------
 
     def block(self, b: A.Block) -> Callable:
-        stmts = [c for c in (self.stmt(s) for s in b.body) if c is not None]
+        stmts: Sequence[Callable] = [c for c in (self.stmt(s) for s in b.body) if c is not None]
         if not stmts:
             return lambda fr: None
         if len(stmts) == 1:
@@ -152,7 +158,7 @@ class Compiler:
 
     def s_While(self, s: A.While):
         cond, body, ctx = self.expr(s.cond), self.block(s.body), self.ctx
-        filename, span = self.module.filename, s.span
+        filename, span = self._here.filename, s.span
 
         def run(fr):
             while cond(fr):
@@ -165,7 +171,7 @@ class Compiler:
 
     def s_Repeat(self, s: A.Repeat):
         cond, body, ctx = self.expr(s.cond), self.block(s.body), self.ctx
-        filename, span = self.module.filename, s.span
+        filename, span = self._here.filename, s.span
 
         def run(fr):
             while True:
@@ -183,7 +189,7 @@ class Compiler:
         step = self.expr(s.step) if s.step is not None else (lambda fr: 1)
         body, ctx, make = self.block(s.body), self.ctx, self._raiser()
         store = self.store_symbol(s.symbol)
-        filename, span, down = self.module.filename, s.span, s.down
+        filename, span, down = self._here.filename, s.span, s.down
 
         def run(fr):
             a, b, k = start(fr), stop(fr), step(fr)
@@ -422,6 +428,7 @@ class Compiler:
                 g = self.values
                 return lambda fr: Ref(g, i)
             return lambda fr: Ref(fr, i)
+        assert isinstance(a, A.Index)  # the checker lets only a name or an element be passed by VAR
         array, slot = self.expr(a.obj), self._element_slot(a)
 
         def ref(fr):
@@ -430,8 +437,10 @@ class Compiler:
         return ref
 
     def _builtin_call(self, b: Builtin, args: list[A.Expr], span: A.Span, result_type) -> Callable:
-        wants = [(p.type, p.by_ref) for p in b.params] + [(b.variadic, False)] * (len(args) - len(b.params))
-        fs = [self._argument(a, t, by_ref) for a, (t, by_ref) in zip(args, wants)]
+        wants = [(p.type, p.by_ref) for p in b.params]
+        if b.variadic is not None:
+            wants += [(b.variadic, False)] * (len(args) - len(b.params))
+        fs: Sequence[Callable] = [self._argument(a, t, by_ref) for a, (t, by_ref) in zip(args, wants)]
         func, make = b.func, self._raiser()
         if b.wants_ctx:
             ctx = self.ctx
@@ -474,8 +483,8 @@ class Compiler:
     def _routine_call(self, r: Routine, args: list[A.Expr], span: A.Span) -> Callable:
         fs = tuple(self._argument(a, p.type, p.by_ref) for a, p in zip(args, r.params))
         ctx, stack, make = self.ctx, self.ctx.stack, self._raiser()
-        entry = StackEntry(r.name, self.module.filename, span)
-        filename = self.module.filename
+        entry = StackEntry(r.name, self._here.filename, span)
+        filename = self._here.filename
         is_function, name = r.is_function, r.name
 
         def call(fr):
