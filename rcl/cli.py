@@ -180,13 +180,11 @@ def _open_cell(args):
     from .workcell import Cell, CellSetupError, open_cell
 
     option = "--cell"
-    config = _config(args)
-    if args.model and not args.camera and args.robot == "sim" and config.simulated:
-        # the simulated cell with that arm: the built-in one laid out for it, if one ships
+    sim_arm = args.model if args.model and not args.camera and args.robot == "sim" else None
+    config = _config(args, arm=sim_arm)  # without --cell: the built-in cell laid out for that arm, if one ships
+    if sim_arm and config.simulated:  # the simulated cell with that arm
         if args.cell:
-            config.data["robot"]["model"] = args.model
-        else:
-            config = _config(args, arm=args.model)
+            config.data["robot"]["model"] = sim_arm
         args.model, option = None, "--model"
     if args.camera or args.robot != "sim" or args.model:
         try:

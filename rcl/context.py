@@ -1,8 +1,5 @@
-"""The running program's Context: what it shares with its host (starlark's "thread").
-
-Built-ins that take the running Context as their first parameter, ``ctx``, may annotate it
-``ctx: Context``; the interpreter makes one per Session.
-"""
+"""The running program's Context (see the class); built-ins that take it as their first
+parameter annotate it ``ctx: Context``. A Session makes one and its compiled code shares it."""
 from __future__ import annotations
 
 import math

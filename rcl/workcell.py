@@ -63,8 +63,7 @@ def open_cell(path: str | Path | CellConfig | None = None, seed: int = 0,
 
     robot_cfg = config["robot"]
     folder = config.path(config["camera"]["folder"])
-    if folder is None:
-        raise CellSetupError(f"{config.source}: camera: a files camera needs its folder (camera.folder)")
+    assert folder is not None  # load_config refuses a files camera without its folder
     robot: Any
     try:
         camera = ImageFiles(folder)

@@ -567,8 +567,9 @@ def _parallel(width: np.ndarray, along: np.ndarray, w0: float, near: int, span_s
     tol = max(PARALLEL_TOL_PX, PARALLEL_TOL_SHARE * w0)
     thinner = inspan & (width < w0 - tol)
     normal = inspan & ~thinner
-    return not (not normal.any() or np.any(inspan & (width > w0 + tol)) or (
-        thinner.any() and along[thinner].max() > along[normal].min() + ppm))
+    if not normal.any() or np.any(inspan & (width > w0 + tol)):
+        return False
+    return not (thinner.any() and along[thinner].max() > along[normal].min() + ppm)
 
 
 def _binned(centre: np.ndarray, along: np.ndarray, ppm: float, upto: float) -> tuple[np.ndarray, np.ndarray]:
