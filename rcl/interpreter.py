@@ -1,7 +1,7 @@
 """The interpreter: walks the checked AST once, turning each node into a Python closure, then runs them.
 
-Each ``e_<Node>`` method gives a closure ``f(fr) -> value`` and each
-``s_<Node>`` a closure ``f(fr) -> None | RETURN``, where ``fr`` is the
+Each ``expr_<Node>`` method gives a closure ``f(fr) -> value`` and each
+``stmt_<Node>`` a closure ``f(fr) -> None | RETURN``, where ``fr`` is the
 activation (a list of the running routine's slots). The checker has already
 proved every type, so the closures do no type tests: they only do what the
 static types say (INTEGER + INTEGER is a checked 64-bit add, FRAME * FRAME a
@@ -112,14 +112,14 @@ class Compiler:
         return run
 
     def stmt(self, s: A.Stmt) -> Callable | None:
-        return getattr(self, "s_" + type(s).__name__)(s)
+        return getattr(self, "stmt_" + type(s).__name__)(s)
 
-    def s_VarDecl(self, s):
+    def stmt_VarDecl(self, s):
         return None
 
-    s_ConstDecl = s_RoutineDecl = s_VarDecl
+    stmt_ConstDecl = stmt_RoutineDecl = stmt_VarDecl
 
-    def s_Assign(self, s: A.Assign):
+    def stmt_Assign(self, s: A.Assign):
         value = self.expr_as(s.value, s.target.type)
         if isinstance(s.target.type, T.ArrayType):
             inner = value
@@ -130,7 +130,7 @@ class Compiler:
             store(fr, value(fr))
         return run
 
-    def s_CallStmt(self, s: A.CallStmt):
+    def stmt_CallStmt(self, s: A.CallStmt):
         c = s.call
         call = self.call(c.symbol, [], c.span) if isinstance(c, A.Name) else self.expr(c)
 
@@ -138,7 +138,7 @@ class Compiler:
             call(fr)
         return run
 
-    def s_If(self, s: A.If):
+    def stmt_If(self, s: A.If):
         pairs = tuple((self.expr(c), self.block(b)) for c, b in s.branches)
         otherwise = self.block(s.otherwise) if s.otherwise is not None else None
         if len(pairs) == 1:
@@ -156,7 +156,7 @@ class Compiler:
                 return otherwise(fr)
         return run
 
-    def s_While(self, s: A.While):
+    def stmt_While(self, s: A.While):
         cond, body, ctx = self.expr(s.cond), self.block(s.body), self.ctx
         filename, span = self._here.filename, s.span
 
@@ -169,7 +169,7 @@ class Compiler:
                     return RETURN
         return run
 
-    def s_Repeat(self, s: A.Repeat):
+    def stmt_Repeat(self, s: A.Repeat):
         cond, body, ctx = self.expr(s.cond), self.block(s.body), self.ctx
         filename, span = self._here.filename, s.span
 
@@ -184,7 +184,7 @@ class Compiler:
                     return None
         return run
 
-    def s_For(self, s: A.For):
+    def stmt_For(self, s: A.For):
         start, stop = self.expr(s.start), self.expr(s.stop)
         step = self.expr(s.step) if s.step is not None else (lambda fr: 1)
         body, ctx, make = self.block(s.body), self.ctx, self._raiser()
@@ -204,7 +204,7 @@ class Compiler:
                     return RETURN
         return run
 
-    def s_Return(self, s: A.Return):
+    def stmt_Return(self, s: A.Return):
         if s.value is None or self.routine is None:
             return lambda fr: RETURN
         value = self.expr_as(s.value, s.result_type)
@@ -215,7 +215,7 @@ class Compiler:
             return RETURN
         return run
 
-    def s_Try(self, s: A.Try):
+    def stmt_Try(self, s: A.Try):
         body, handler, ctx = self.block(s.body), self.block(s.handler), self.ctx
 
         def run(fr):
@@ -231,21 +231,21 @@ class Compiler:
                     ctx.errmsgs.pop()
         return run
 
-    def s_Raise(self, s: A.Raise):
+    def stmt_Raise(self, s: A.Raise):
         message, make, span = self.expr(s.message), self._raiser(), s.span
 
         def run(fr):
             raise make(message(fr), span)
         return run
 
-    def s_Solve(self, s: A.Solve):
+    def stmt_Solve(self, s: A.Solve):
         value, store = self.expr(s.solution), self.store_symbol(s.symbol)
 
         def run(fr):
             store(fr, value(fr))
         return run
 
-    def s_Import(self, s: A.Import):
+    def stmt_Import(self, s: A.Import):
         if s.module is None:
             return None
         key, ran, codes = s.module.key, self.ran, self.module_codes
@@ -283,7 +283,7 @@ class Compiler:
     def place(self, e: A.Expr) -> tuple[Callable, Callable]:
         """(get, set) for an assignable expression."""
         if isinstance(e, A.Name):
-            return self.e_Name(e), self.store_symbol(e.symbol)
+            return self.expr_Name(e), self.store_symbol(e.symbol)
         if isinstance(e, A.Index):
             array, slot = self.expr(e.obj), self._element_slot(e)
 
@@ -301,7 +301,7 @@ class Compiler:
             return get, set_
         if isinstance(e, A.Field):
             pget, pset = self.place(e.obj)
-            get = self.e_Field(e)
+            get = self.expr_Field(e)
             field = e.name.key
             if field == "p":
                 def set_(fr, x):
@@ -320,7 +320,7 @@ class Compiler:
     # Expressions -------------------------------------------------------------
 
     def expr(self, e: A.Expr) -> Callable:
-        return getattr(self, "e_" + type(e).__name__)(e)
+        return getattr(self, "expr_" + type(e).__name__)(e)
 
     def expr_as(self, e: A.Expr, target: T.Type | None) -> Callable:
         """An expression whose value goes where target is expected (INTEGER widens to REAL)."""
@@ -329,23 +329,23 @@ class Compiler:
             return lambda fr: float(f(fr))
         return f
 
-    def e_Integer(self, e):
+    def expr_Integer(self, e):
         value = int(e.text)
         return lambda fr: value
 
-    def e_Real(self, e):
+    def expr_Real(self, e):
         value = float(e.text)
         return lambda fr: value
 
-    def e_String(self, e):
+    def expr_String(self, e):
         value = e.value
         return lambda fr: value
 
-    def e_Boolean(self, e):
+    def expr_Boolean(self, e):
         value = e.value
         return lambda fr: value
 
-    def e_Name(self, e: A.Name):
+    def expr_Name(self, e: A.Name):
         v = e.symbol
         if not isinstance(v, Variable):
             return self.call(v, [], e.span)  # a routine called without ()
@@ -379,7 +379,7 @@ class Compiler:
                 return x
         return get
 
-    def e_Field(self, e: A.Field):
+    def expr_Field(self, e: A.Field):
         obj = self.expr(e.obj)
         field = e.name.key
         if T.is_frame(e.obj.type):
@@ -405,10 +405,10 @@ class Compiler:
             return x
         return slot
 
-    def e_Index(self, e: A.Index):
+    def expr_Index(self, e: A.Index):
         return self.place(e)[0]
 
-    def e_Call(self, e: A.Call):
+    def expr_Call(self, e: A.Call):
         return self.call(e.symbol, e.args, e.span, e.type)
 
     def call(self, target, args: list[A.Expr], span: A.Span, result_type=None) -> Callable:
@@ -518,7 +518,7 @@ class Compiler:
                 return new[-1]
         return call
 
-    def e_UnOp(self, e: A.UnOp):
+    def expr_UnOp(self, e: A.UnOp):
         f = self.expr(e.operand)
         if e.op == "NOT":
             return lambda fr: not f(fr)
@@ -539,7 +539,7 @@ class Compiler:
             raise make("INTEGER overflow (beyond 64 bits)", span)
         return run
 
-    def e_BinOp(self, e: A.BinOp):
+    def expr_BinOp(self, e: A.BinOp):
         op, a, b = e.op, self.expr(e.left), self.expr(e.right)
         ta, tb = e.left.type, e.right.type
         if op == "AND":

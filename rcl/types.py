@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import typing
 from dataclasses import dataclass
-from typing import Annotated, Generic, TypeVar
+from typing import Annotated, Generic, TypeGuard, TypeVar
 
 import numpy as np
 
@@ -99,7 +99,7 @@ def int_mod(x: int, y: int) -> int:
     return x - int_div(x, y) * y
 
 
-def is_frame(t: Type) -> bool:
+def is_frame(t: Type | None) -> TypeGuard[FrameType]:
     return isinstance(t, FrameType)
 
 
@@ -224,6 +224,10 @@ _SIMPLE = {int: INTEGER, float: REAL, bool: BOOLEAN, str: STRING, np.ndarray: VE
            Frame: FRAME, Number: NUMBER, Printable: PRINTABLE, AnyArray: ANY_ARRAY}
 
 
+SWAPPED = "the first argument's frame references, swapped"
+"""Annotated[Frame, SWAPPED] as a built-in's result: INV of a [a -> b] frame is a [b -> a] frame."""
+
+
 def from_annotation(annotation) -> tuple[Type, bool]:
     """(type, by_ref) for a Python annotation of a built-in's parameter or result."""
     origin = typing.get_origin(annotation)
@@ -233,7 +237,7 @@ def from_annotation(annotation) -> tuple[Type, bool]:
     if origin is Annotated:
         base, *meta = typing.get_args(annotation)
         if base is Frame and meta:
-            return parse_refs(meta[0]), False
+            return (FRAME if meta[0] is SWAPPED else parse_refs(meta[0])), False
         return from_annotation(base)
     if origin is list:
         (inner,) = typing.get_args(annotation)

@@ -1,4 +1,4 @@
-"""Runs every tests/rcl/*.rcl program and compares with the expectations in its comments.
+"""Runs every tests/programs/*.rcl program and compares with the expectations in its comments.
 
     // expect: TEXT             one line of standard output, in order (`// expect:` alone: an empty line)
     // expect-exit: N           0 (default), 1 for a runtime error, 2 for static errors
@@ -17,7 +17,7 @@ import pytest
 from rcl import RclRuntimeError, RclStaticError, Session
 from rcl.robots import RecordingArm
 
-CASES = sorted((Path(__file__).parent / "rcl").glob("*.rcl"))
+CASES = sorted((Path(__file__).parent / "programs").glob("*.rcl"))
 EXPECT = re.compile(r"// expect(?P<kind>-exit|-error)?:(?P<rest>.*)$")
 
 
@@ -73,7 +73,7 @@ def test_program(path: Path):
 
 def test_every_section_of_the_language_reference_has_cases_here():
     """docs/language.md is the whole language; each of its numbered sections is exercised by
-    the project's own cases (tests/rcl/*.rcl name theirs on their first line, 'Section N'),
+    the project's own cases (tests/programs/*.rcl name theirs on their first line, 'Section N'),
     without ../shared. Section 11, the whole task, is run from the page by test_examples."""
     page = (Path(__file__).parent.parent / "docs" / "language.md").read_text(encoding="utf-8")
     sections = [int(n) for n in re.findall(r"^## (\d+)\. ", page, re.M)]

@@ -27,7 +27,7 @@ TOKENS = ["IF", "THEN", "ELSE", "ELSIF", "END", "WHILE", "DO", "REPEAT", "UNTIL"
           "1", "0", "2.5", "1e400", "99999999999999999999999", "'s'", "'", "{", "}", "(*", "*)", "//",
           "\n", " ", "world -> base", "INTEGER", "REAL", "VEC", "DIST", "@", "\x00", "é"]
 EXAMPLES = [p.read_text() for p in sorted((ROOT / "examples").glob("*.rcl"))] + \
-           [p.read_text() for p in sorted((ROOT / "tests" / "rcl").glob("*.rcl"))]
+           [p.read_text() for p in sorted((ROOT / "tests" / "programs").glob("*.rcl"))]
 
 
 def outcome(source: str) -> tuple[int, str, list]:

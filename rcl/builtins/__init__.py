@@ -14,7 +14,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
 
-from ..types import INTEGER, NUMBER, REAL, ParamInfo, Type, from_annotation, is_frame
+from ..types import INTEGER, NUMBER, REAL, SWAPPED, ParamInfo, Type, from_annotation, inverse, is_frame
 
 
 @dataclass(eq=False)
@@ -28,6 +28,7 @@ class Builtin:
     variadic: Type | None  # the type of any further arguments, or None
     wants_ctx: bool
     doc: str
+    swaps_refs: bool = False  # the result is the first argument's frame, its references swapped (INV)
 
     @classmethod
     def from_function(cls, name: str, func: Callable) -> Builtin:
@@ -51,11 +52,14 @@ class Builtin:
                 raise TypeError(f"built-in {name}: parameter {p.name} must be positional")
         ret = hints.get("return", type(None))
         result = None if ret is type(None) else from_annotation(ret)[0]
+        swaps = typing.get_origin(ret) is typing.Annotated and SWAPPED in typing.get_args(ret)[1:]
         doc = inspect.getdoc(func) or ""
-        return cls(name.upper(), func, tuple(params), result, variadic, wants_ctx, doc)
+        return cls(name.upper(), func, tuple(params), result, variadic, wants_ctx, doc, swaps)
 
     def result_for(self, arg_types: list[Type]) -> Type | None:
-        """The result type of a call with these argument types (resolves Number)."""
+        """The result type of a call with these argument types (resolves Number, swaps references)."""
+        if self.swaps_refs and arg_types and is_frame(arg_types[0]):
+            return inverse(arg_types[0])
         if self.result is not NUMBER:
             return self.result
         number_args = [t for p, t in zip(self.params, arg_types) if p.type is NUMBER]

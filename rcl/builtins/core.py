@@ -5,11 +5,12 @@ Angles are in degrees, lengths in millimetres.
 from __future__ import annotations
 
 import math
+from typing import Annotated
 
 from ..context import Context
 from ..errors import BuiltinError
 from ..frame import Frame, Vector, vec
-from ..types import AnyArray, Number, Printable
+from ..types import SWAPPED, AnyArray, Number, Printable
 from ..values import format_value
 
 # Frames ------------------------------------------------------------------
@@ -55,7 +56,7 @@ def frame(n: Vector, o: Vector, a: Vector, p: Vector) -> Frame:
     return Frame.from_columns(n, o, a, p)
 
 
-def inv(f: Frame) -> Frame:
+def inv(f: Frame) -> Annotated[Frame, SWAPPED]:
     """INV(F^): the inverse frame (closed form for a rigid transform)."""
     return f.inv()
 
