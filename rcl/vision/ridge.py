@@ -28,8 +28,8 @@ only when what lies around it can be seen to be bare board.
    (under another wire), is refused.
 6. Free: the board must show beside the whole span, beyond the tip, and in a
    CLEARANCE_MM disc round the grasp point (room for the fingers).
-7. The sighting: the tip; the direction into the wire at the tip, fitted over END_FIT_MM
-   (along a parabola where the line bows); the
+7. The sighting: the tip; the direction into the wire at the tip, the chord of the
+   centre line's TIP_FIT_MM nearest it (the tip put on that axis); the
    grasp point GRASP_MM along the centre line, centred across the wire; the tangent
    there. Of the first ENOUGH free ends, the one with the most room round it comes first:
    the least contrast, relative to the board's threshold, in bands 1-3 mm out beside
@@ -75,9 +75,10 @@ CONDUCTOR_MIN_MM = 2.5  # ... at least this long (a shorter one is the blur or t
 CONDUCTOR_WINDOW_MM = 1.0  # ... on average over this much of its length
 CONDUCTOR_NARROW = 0.7  # ... and narrower than the wire: 0.45 of its width off the axis, less than this share of it
 TIP_START_MM = 10.0  # the search for the tip starts this far in along the centre line: on the insulation
-END_FIT_MM = 8.0  # the end's direction is fitted over this much of the centre line
-END_SKIP_MM = 1.0  # ... less its first mm, where a ridge's end may hook
-TIP_BOW_PX = 0.3  # ... along a parabola where it bows this far from its chord, else along the chord
+END_FIT_MM = 8.0  # the ridge's direction at its end, to search for the tip along: over this much of it
+TIP_FIT_MM = (1.0, 5.0)  # the end's direction: the chord of the centre line this far from the tip (its first
+# mm may hook; a longer chord leans with a wire curving near its end, and a parabola's slope at the tip, tried
+# too, is the noisiest of the three)
 BRIDGE_MM = 0.6  # across a wire, a break in its contrast narrower than this is no edge (a specular line)
 TANGENT_MM = 2.5  # the tangent at the grasp point: over this much either side
 BOARD_FLOOR = 4.0  # contrast (spreads) below which a pixel may be bare board, whatever the wire
@@ -107,6 +108,7 @@ MIDDLE_THROUGH = 0.8  # ... its line runs on this share of the way out of the di
 MIDDLE_BOW = 0.5  # ... bowing from its tangent there by no more than this share of that
 MIDDLE_STEP_MM = 3.0  # ... tried at points this far apart
 MIDDLE_MAX = 60  # ... at most this many
+LOOP_END_MM, LOOP_BOW = 8.0, 0.8  # where there is no such place: as near ends, bowing as much (a small loop with short tails)
 ENOUGH = 4  # free ends to find before the search stops (0: all); the roomiest is taken
 
 _COS_CONE = math.cos(math.radians(GAP_CONE_DEG))
@@ -458,9 +460,14 @@ def find_middle(image: np.ndarray, px_per_mm: float = 4.0) -> RidgeResult:
     shape. Each Sighting's end and grasp are the same point on a centre line, MIDDLE_AWAY_MM
     from every crossing (so on top) and MIDDLE_END_MM from every end of the centre lines, with
     the CLEARANCE_MM disc round it free (room for the fingers); end_angle and grasp_angle are
-    the line's direction there. The roomiest comes first."""
+    the line's direction there. The roomiest comes first. Where there is no such place, places
+    LOOP_END_MM from the ends, bowing up to LOOP_BOW (the far side of a small loop whose tails
+    are short)."""
     result, clock, began, graph, reader = _look(image, px_per_mm)
-    result.candidates = [s for s in (reader.middle(p) for p in graph.middles()) if s is not None]
+    for end_mm, bow in ((MIDDLE_END_MM, MIDDLE_BOW), (LOOP_END_MM, LOOP_BOW)):
+        result.candidates = [s for s in (reader.middle(p, bow) for p in graph.middles(end_mm)) if s is not None]
+        if result.candidates:
+            break
     result.candidates.sort(key=lambda s: -s.score)
     clock("middles")
     result.timings["total"] = (clock.last - began) * 1000.0
@@ -677,8 +684,8 @@ class _Graph:
             self._window = (rr[keep], cc[keep], dist[keep])
         return self._window
 
-    def middles(self) -> list[np.ndarray]:
-        """Points (row, col) on lines MIN_LINE_MM long or more, MIDDLE_END_MM or more from every
+    def middles(self, end_mm: float = MIDDLE_END_MM) -> list[np.ndarray]:
+        """Points (row, col) on lines MIN_LINE_MM long or more, end_mm or more from every
         end of those lines and MIDDLE_AWAY_MM from every crossing, MIDDLE_STEP_MM apart at least,
         farthest from them (relative to those distances) first."""
         from scipy import ndimage
@@ -697,7 +704,7 @@ class _Graph:
         size = np.bincount(pieces.ravel(), minlength=n + 1)
         size[0] = 0
         lines = size[pieces] >= MIN_LINE_MM * self.wppm
-        from_end = distance(lines & (deg <= 1)) / (MIDDLE_END_MM * self.wppm)
+        from_end = distance(lines & (deg <= 1)) / (end_mm * self.wppm)
         from_crossing = distance(lines & (deg >= 3)) / (MIDDLE_AWAY_MM * self.wppm)
         away = np.minimum(from_end, from_crossing)
         rr, cc = np.nonzero(lines & (away >= 1.0))
@@ -864,9 +871,9 @@ class _EndReader:
             return self.refuse(start, "the wire runs off the frame near its end")
         if self.off_tray(full, border).any():
             return self.refuse(start, "the wire runs to the tray's rim near its end")
-        head = full[(s >= END_SKIP_MM * mm) & (s <= END_FIT_MM * mm)]
-        if len(head) >= 5:  # the direction at the tip itself (a ridge may bend as it overshoots the end)
-            inward, on_axis = tip_tangent(head, full[0])
+        head = full[(s >= TIP_FIT_MM[0] * mm) & (s <= TIP_FIT_MM[1] * mm)]
+        if len(head) >= 3:  # the direction at the tip itself (a ridge may bend as it overshoots the end)
+            inward, on_axis = tip_axis(head, full[0])
         else:
             on_axis = full[0]
         grasp = np.array([np.interp(GRASP_MM * mm, s, full[:, 0]), np.interp(GRASP_MM * mm, s, full[:, 1])])
@@ -880,8 +887,9 @@ class _EndReader:
         grasp = self.centred(grasp, tangent, width)
         return self.sighting(on_axis, inward, grasp, tangent, 1.0 / (1.0 + clutter))
 
-    def middle(self, p: np.ndarray):
-        """A Sighting to take the wire by its middle at centre-line point p, or None (refused)."""
+    def middle(self, p: np.ndarray, bow: float = MIDDLE_BOW):
+        """A Sighting to take the wire by its middle at centre-line point p, or None (refused):
+        its line must bow from its tangent by no more than `bow` of the disc's radius."""
         mm = self.wppm
         reach = (CLEARANCE_MM + 2.0) * mm  # past the fingers' disc (and so the frame's margin)
         if min(p[0], p[1], self.h - 1 - p[0], self.w - 1 - p[1]) < reach or self.off_tray(p[None, :], reach)[0]:
@@ -904,7 +912,7 @@ class _EndReader:
         along = (own - p) @ tangent
         across = np.abs((own - p) @ np.array([-tangent[1], tangent[0]]))
         if along.min() > -MIDDLE_THROUGH * reach or along.max() < MIDDLE_THROUGH * reach \
-                or across.max() > MIDDLE_BOW * reach:
+                or across.max() > bow * reach:
             return None
         line = own[np.argsort(along)]
         level = float(np.median(self.sample(line)))
@@ -1146,21 +1154,14 @@ class _EndReader:
         return Sighting(to_input(tip), end_angle, to_input(grasp), grasp_angle, score)
 
 
-def tip_tangent(head: np.ndarray, tip: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The unit direction into the wire at its tip, and the tip put on the wire's axis (a hooked
-    ridge end is off it), from a parabola fitted to the centre line's head: a wire that curves
-    near its end points at its tip, not along the chord of its first mm."""
+def tip_axis(head: np.ndarray, tip: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The unit direction into the wire at its tip, the chord of the centre line's head (the
+    first few mm past the tip), and the tip put on that axis (a hooked ridge end is off it)."""
     chord = principal_direction(head)
     if chord @ (head[-1] - head[0]) < 0:
         chord = -chord
-    across = np.array([-chord[1], chord[0]])
-    t, y = (head - tip) @ chord, (head - tip) @ across
-    (a, b, c), *_ = np.linalg.lstsq(np.column_stack([np.ones_like(t), t, t * t]), y, rcond=None)
-    if abs(c) * float(np.ptp(t)) ** 2 / 4 < TIP_BOW_PX:  # no bow to speak of: the chord, which is steadier
-        middle = head.mean(axis=0)
-        return chord, middle + chord * float((tip - middle) @ chord)
-    inward = chord + b * across
-    return inward / float(np.linalg.norm(inward)), tip + a * across
+    middle = head.mean(axis=0)
+    return chord, middle + chord * float((tip - middle) @ chord)
 
 
 _FAN = np.radians(np.linspace(-70, 70, 9))
