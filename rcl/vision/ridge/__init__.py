@@ -1,0 +1,134 @@
+"""The default wire finder: wire centre lines as ridges; every end classified; unsure means no.
+
+The paper's systems threshold grey levels or follow grey-level edges, so they
+need wires of one polarity on a plain board. This finder asks of every pixel
+how far its colour is from the board's, so a red wire on a green mat, a white
+wire beside a black one and a copper tip all stand out alike; it finds centre
+lines as ridges of that contrast at the scales wires have, and it takes an end
+only when what lies around it can be seen to be bare board.
+
+1. The working image: k x k block averaging to 2-4 px/mm, colour kept; a tray's rim
+   (or the bench round the tray) along a side of the frame found (find_rim): what
+   lies beyond it is off the tray.
+2. Contrast: the board's colour is estimated per BOARD_BLOCK_MM block (the median,
+   then the median of each 3 x 3 blocks, so blocks full of wire are outvoted) and
+   subtracted; each channel is divided by its own robust spread (noise and board
+   texture); the contrast F is the root mean square over the channels.
+3. Ridges: F smoothed at scales matched to wire diameters 0.8-3 mm; the Hessian's
+   most negative eigenvalue, scale-normalised, is the ridge strength; each pixel
+   keeps its best scale; non-maximum suppression across the ridge and hysteresis
+   leave the centre lines, thinned to one pixel.
+4. The wire graph: ends (one neighbour) and crossings (three or more); spurs shorter
+   than SPUR_MM are pruned; a trace jumps a break of up to GAP_MM to another line
+   end facing it; only ends on lines long enough to hold SPAN_MM are read.
+5. Each end: traced inward for SPAN_MM (a crossing on the way: it touches another
+   wire); the wire's width measured across it; the tip followed outward along the
+   contrast past the ridge's end (a rounded cap, a ferrule, stripped copper) to
+   where the board begins; an end at the frame border, or whose contrast runs on
+   (under another wire), is refused.
+6. Free: the board must show beside the whole span, beyond the tip, and in a
+   CLEARANCE_MM disc round the grasp point (room for the fingers).
+7. The sighting: the tip; the direction into the wire at the tip, the chord of the
+   centre line's TIP_FIT_MM nearest it (the tip put on that axis); the
+   grasp point GRASP_MM along the centre line, centred across the wire; the tangent
+   there. Of the first ENOUGH free ends, the one with the most room round it comes first:
+   the least contrast, relative to the board's threshold, in bands 1-3 mm out beside
+   its span, beyond its tip and round the grasp point (a nearby wire the free test
+   just missed makes an end a worse bet).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..common import Clock
+from .contrast import contrast, working_image
+from .graph import MIDDLE_END_MM, Graph
+from .lines import centre_lines, ridges, thin_sparse
+from .reader import MIDDLE_BOW, EndReader
+from .rim import find_rim
+
+__all__ = ["RidgeResult", "find_middle", "find_rim", "find_wires_ridge", "thin_sparse", "working_image"]
+
+SATURATION = 12.0  # contrast (spreads) beyond which a wire is simply there: highlights count no more
+LOOP_END_MM, LOOP_BOW = 8.0, 0.8  # find_middle where no place is MIDDLE_END_MM from line ends:
+# this near them, bowing this much (a small loop with short tails)
+ENOUGH = 4  # free ends to find before the search stops (0: all); the roomiest is taken
+
+
+@dataclass
+class RidgeResult:
+    """What the ridge finder saw: candidates best-first, stage times, its centre lines and refusals."""
+
+    candidates: list = field(default_factory=list)
+    timings: dict = field(default_factory=dict)
+    skeleton: np.ndarray | None = None  # the centre lines on the working grid
+    scale: int = 1  # input pixels per working pixel
+    rejected: list = field(default_factory=list)  # ((u, v) input px, why) for each refused end
+
+
+def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = ENOUGH) -> RidgeResult:
+    """Graspable wire ends in an image (grey or colour) at px_per_mm, best first."""
+    result, clock, began, graph, reader = _look(image, px_per_mm)
+    ordered = graph.ends_in_order(reader.f)
+    for end in graph.short:
+        reader.refuse(graph.rc(int(end)), "its line meets another or stops within 20 mm")
+    for end in ordered:
+        s = reader.read(end)
+        if s is not None:
+            result.candidates.append(s)
+            if enough and len(result.candidates) >= enough:
+                break
+    result.candidates.sort(key=lambda s: -s.score)
+    clock("ends")
+    result.timings["total"] = (clock.last - began) * 1000.0
+    return result
+
+
+def find_middle(image: np.ndarray, px_per_mm: float = 4.0) -> RidgeResult:
+    """Places to take a wire by its middle, best first: for a wire none of whose ends is free
+    (a loop that crosses itself near both ends, say), to lift it and let it fall in a new
+    shape. Each Sighting's end and grasp are the same point on a centre line, MIDDLE_AWAY_MM
+    from every crossing (so on top) and MIDDLE_END_MM from every end of the centre lines, with
+    the CLEARANCE_MM disc round it free (room for the fingers); end_angle and grasp_angle are
+    the line's direction there. The roomiest comes first. Where there is no such place, places
+    LOOP_END_MM from the ends, bowing up to LOOP_BOW (the far side of a small loop whose tails
+    are short)."""
+    result, clock, began, graph, reader = _look(image, px_per_mm)
+    for end_mm, bow in ((MIDDLE_END_MM, MIDDLE_BOW), (LOOP_END_MM, LOOP_BOW)):
+        result.candidates = [s for s in (reader.middle(p, bow) for p in graph.middles(end_mm)) if s is not None]
+        if result.candidates:
+            break
+    result.candidates.sort(key=lambda s: -s.score)
+    clock("middles")
+    result.timings["total"] = (clock.last - began) * 1000.0
+    return result
+
+
+def _look(image: np.ndarray, px_per_mm: float):
+    """The stages before ends are read: (result, clock, start time, the wire graph, its reader)."""
+    result = RidgeResult()
+    clock = Clock(result.timings)
+    began = clock.last
+    work, k = working_image(image, px_per_mm)
+    wppm = px_per_mm / k
+    result.scale = k
+    clock("average")
+    outside = find_rim(work, wppm)
+    clock("rim")
+    con = contrast(work, wppm, outside)
+    clock("contrast")
+    flat = SATURATION * np.tanh(con.f * (1.0 / SATURATION))  # a wire's body, not its highlight, makes the ridge
+    strength, smoothed, which, fine = ridges(flat, wppm)
+    clock("ridges")
+    skeleton = centre_lines(strength, smoothed, which, wppm)
+    clock("centre lines")
+    graph = Graph(skeleton, wppm)
+    graph.prune_spurs()
+    result.skeleton = graph.skeleton
+    clock("graph")
+    reader = EndReader(con, flat, fine, graph, wppm, k, result, outside)
+    return result, clock, began, graph, reader
+
+

@@ -1,0 +1,192 @@
+"""The centre lines as a graph: ends, crossings, spurs pruned, gaps bridged; the ends worth
+reading, and places to take a wire by its middle."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .lines import MIN_LINE_MM, NEIGHBOURS, _cut_corners
+
+SPAN_MM = 20.0  # wire that must be free from the tip: the grasp point and 5 mm beyond
+SPUR_MM = 3.0  # branches this short that end at a crossing are whiskers
+GAP_MM = 2.5  # a break in a centre line this long, straight ahead, is bridged
+GAP_CONE_DEG = 30.0
+MIDDLE_AWAY_MM = 8.0  # a middle grasp: this far from every crossing of the centre lines
+MIDDLE_END_MM = 15.0  # ... and this far (straight) from every end of them: held by its middle (along a loop, 20 mm or more)
+MIDDLE_STEP_MM = 3.0  # ... tried at points this far apart
+MIDDLE_MAX = 60  # ... at most this many
+_COS_CONE = math.cos(math.radians(GAP_CONE_DEG))
+
+
+class Graph:
+    """The centre lines as a graph on the working grid: ends, crossings, tracing."""
+
+    def __init__(self, skeleton: np.ndarray, wppm: float) -> None:
+        self.wppm = wppm
+        self.h, self.w = skeleton.shape
+        self.W = self.w + 2
+        self.flat = np.pad(skeleton, 1).ravel().copy()
+        self.offsets = [dr * self.W + dc for dr, dc in NEIGHBOURS]
+        self._window = None
+        self.short = np.zeros(0, np.int64)  # ends on lines too short to read (set by ends_in_order)
+        self._count()
+
+    def _count(self) -> None:
+        on = np.flatnonzero(self.flat)
+        self.degree = np.zeros(len(self.flat), np.uint8)
+        for o in self.offsets:
+            self.degree[on] += self.flat[on + o]
+
+    @property
+    def skeleton(self) -> np.ndarray:
+        return self.flat.reshape(self.h + 2, self.W)[1:-1, 1:-1]
+
+    def ends(self) -> np.ndarray:
+        return np.flatnonzero(self.flat & (self.degree == 1))
+
+    def rc(self, i: int) -> tuple[int, int]:
+        return i // self.W - 1, i % self.W - 1
+
+    def trace(self, start: int, limit_px: float) -> tuple[list[int], str]:
+        """Follow the centre line from an end for limit_px of arc: (pixels, how it stopped:
+        'crossing', 'end' or 'far')."""
+        flat, offsets = self.flat.tobytes(), self.offsets  # bytes: a Python index per pixel is cheap
+        path = [start]
+        prev = -1
+        cur = start
+        arc = 0.0
+        while arc < limit_px:
+            nxt = [cur + o for o in offsets if flat[cur + o] and cur + o != prev and cur + o not in path[-3:]]
+            if not nxt:
+                jump = self.across_gap(path) if len(path) > 4 else None
+                if jump is None:
+                    return path, "end"
+                arc += float(np.hypot(*np.subtract(divmod(jump, self.W), divmod(cur, self.W))))
+                prev, cur = -1, jump
+                path.append(cur)
+                continue
+            if len(nxt) > 1:
+                # an edge neighbour and the diagonal beside it are one step of the same line
+                edge = [q for q in nxt if abs(q - cur) in (1, self.W)]
+                if len(nxt) == 2 and len(edge) == 1 and _adjacent(nxt[0], nxt[1], self.W):
+                    nxt = edge
+                else:
+                    return path, "crossing"
+            step = nxt[0]
+            arc += 1.0 if abs(step - cur) in (1, self.W) else 1.4142
+            prev, cur = cur, step
+            path.append(cur)
+        return path, "far"
+
+    def prune_spurs(self) -> None:
+        limit = SPUR_MM * self.wppm
+        for e in self.ends():
+            if not self.flat[e]:
+                continue
+            path, how = self.trace(int(e), limit)
+            if how == "crossing":
+                self.flat[path[:-1] if len(path) > 1 else path] = False
+        _cut_corners(self.flat, self.W)  # a whisker gone may leave a corner where it joined
+        self._count()
+
+    def across_gap(self, path: list[int]) -> int | None:
+        """Where the centre line goes on across a short break straight ahead of path's last pixel:
+        the nearest other line end within GAP_MM in a GAP_CONE_DEG cone (a break leaves two ends
+        facing each other), or None."""
+        W = self.W
+        here = np.array(divmod(path[-1], W), float)
+        back = np.array(divmod(path[max(len(path) - 1 - int(2.0 * self.wppm), 0)], W), float)
+        ahead = here - back
+        n = float(np.linalg.norm(ahead))
+        if n < 1.0:
+            return None
+        ahead /= n
+        rr, cc, dist = self._gap_window
+        cone = rr * ahead[0] + cc * ahead[1] >= _COS_CONE * dist
+        idx = path[-1] + (rr[cone] * W + cc[cone]).astype(np.int64)
+        ok = (idx >= 0) & (idx < len(self.flat))
+        idx, d = idx[ok], dist[cone][ok]
+        hit = (self.degree[idx] == 1) & self.flat[idx]
+        if not hit.any():
+            return None
+        recent = set(path[-12:])
+        for k in np.argsort(d[hit]):
+            i = int(idx[hit][k])
+            if i not in recent:
+                return i
+        return None
+
+    @property
+    def _gap_window(self):
+        if self._window is None:
+            reach = math.ceil(GAP_MM * self.wppm)
+            rr, cc = np.mgrid[-reach:reach + 1, -reach:reach + 1]
+            dist = np.hypot(rr, cc)
+            keep = (dist >= 1.5) & (dist <= reach)
+            self._window = (rr[keep], cc[keep], dist[keep])
+        return self._window
+
+    def middles(self, end_mm: float = MIDDLE_END_MM) -> list[np.ndarray]:
+        """Points (row, col) on lines MIN_LINE_MM long or more, end_mm or more from every
+        end of those lines and MIDDLE_AWAY_MM from every crossing, MIDDLE_STEP_MM apart at least,
+        farthest from them (relative to those distances) first."""
+        from scipy import ndimage
+
+        grid = self.skeleton.astype(bool)
+        if not grid.any():
+            return []
+        deg = self.degree.reshape(self.h + 2, self.W)[1:-1, 1:-1]
+
+        def distance(marks):
+            return ndimage.distance_transform_edt(~marks) if marks.any() else np.full(grid.shape, np.inf)
+
+        # the ends and crossings of lines MIN_LINE_MM long or more (a speck of the board's
+        # texture leaves a short line whose ends are no wire's)
+        pieces, n = ndimage.label(grid, np.ones((3, 3)))
+        size = np.bincount(pieces.ravel(), minlength=n + 1)
+        size[0] = 0
+        lines = size[pieces] >= MIN_LINE_MM * self.wppm
+        from_end = distance(lines & (deg <= 1)) / (end_mm * self.wppm)
+        from_crossing = distance(lines & (deg >= 3)) / (MIDDLE_AWAY_MM * self.wppm)
+        away = np.minimum(from_end, from_crossing)
+        rr, cc = np.nonzero(lines & (away >= 1.0))
+        order = np.argsort(-away[rr, cc], kind="stable")
+        pts = np.column_stack([rr[order], cc[order]]).astype(float)
+        step2 = (MIDDLE_STEP_MM * self.wppm) ** 2
+        kept: list[np.ndarray] = []
+        while len(pts) and len(kept) < MIDDLE_MAX:  # the farthest left, then none near it
+            kept.append(pts[0])
+            pts = pts[((pts - pts[0]) ** 2).sum(axis=1) >= step2]
+        return kept
+
+    def ends_in_order(self, f: np.ndarray) -> list[int]:
+        """The ends worth reading, best first: those whose line runs on for at least SPAN_MM
+        before it meets another (every other end fails the span test anyway), on the longest,
+        strongest lines first."""
+        from scipy import ndimage
+
+        ends = self.ends()
+        if not len(ends):
+            return []
+        grid = self.flat.reshape(self.h + 2, self.W)
+        crossing = (self.degree >= 3).reshape(grid.shape)
+        pieces, n = ndimage.label(grid & ~ndimage.binary_dilation(crossing, np.ones((3, 3))), np.ones((3, 3)))
+        length = np.bincount(pieces.ravel(), minlength=n + 1).astype(float)
+        length[0] = 0.0
+        piece = pieces.ravel()[ends]
+        long_enough = length[piece] >= 0.85 * SPAN_MM * self.wppm
+        self.short = ends[~long_enough]
+        ends, piece = ends[long_enough], piece[long_enough]
+        r, c = np.divmod(ends, self.W)
+        score = np.minimum(length[piece], 2 * SPAN_MM * self.wppm) * \
+            np.minimum(f[np.clip(r - 1, 0, self.h - 1), np.clip(c - 1, 0, self.w - 1)], 50.0)
+        return [int(e) for e in ends[np.argsort(-score)]]
+
+
+def _adjacent(a: int, b: int, W: int) -> bool:
+    ra, ca = divmod(a, W)
+    rb, cb = divmod(b, W)
+    return max(abs(ra - rb), abs(ca - cb)) == 1
+
+

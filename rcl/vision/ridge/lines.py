@@ -1,0 +1,179 @@
+"""The ridge finder's centre lines: multi-scale ridges of the contrast (the Hessian of a
+Gaussian), hysteresis, and thinning to one-pixel lines."""
+from __future__ import annotations
+
+import numpy as np
+
+SCALES_MM = (0.35, 0.7, 1.2)  # Gaussian sigmas matched to wire diameters ~0.8, 1.6 and 3 mm
+MIN_SIGMA_PX = 0.8  # below this a Gaussian on the working grid is no longer one
+RIDGE_HIGH = 2.0  # hysteresis on the ridge strength, in units of the contrast's spread
+RIDGE_LOW = 0.9
+MIN_LINE_MM = 10.0  # shorter centre-line pieces are noise, texture or too short to take
+# 8-neighbour offsets (row, col), clockwise from E
+NEIGHBOURS = ((0, 1), (1, 1), (1, 0), (1, -1), (0, -1), (-1, -1), (-1, 0), (-1, 1))
+
+
+def ridges(f: np.ndarray, wppm: float) -> tuple[np.ndarray, list, np.ndarray, np.ndarray]:
+    """(strength, smoothed, scale, fine): the best scale's ridge strength of F at each pixel
+    (-sigma^2 times the Hessian's most negative eigenvalue), F smoothed at each scale, the index
+    of the best scale per pixel, and the finest scale's strength (thin conductors)."""
+    from scipy import ndimage
+
+    best = np.zeros_like(f)
+    which = np.zeros(f.shape, np.uint8)
+    grr = np.zeros_like(f)
+    gcc = np.zeros_like(f)
+    grc = np.zeros_like(f)
+    fine = best
+    smoothed = []
+    for n, sigma in enumerate(_sigmas(wppm)):
+        g = ndimage.gaussian_filter(f, sigma, mode="nearest", truncate=3.0)
+        smoothed.append(g)
+        np.subtract(g[2:], g[1:-1], out=grr[1:-1])
+        grr[1:-1] -= g[1:-1]
+        grr[1:-1] += g[:-2]
+        np.subtract(g[:, 2:], g[:, 1:-1], out=gcc[:, 1:-1])
+        gcc[:, 1:-1] -= g[:, 1:-1]
+        gcc[:, 1:-1] += g[:, :-2]
+        np.subtract(g[2:, 2:], g[2:, :-2], out=grc[1:-1, 1:-1])
+        grc[1:-1, 1:-1] -= g[:-2, 2:]
+        grc[1:-1, 1:-1] += g[:-2, :-2]
+        half = grr - gcc
+        half *= 0.5
+        half *= half
+        q = grc * grc
+        q *= 0.0625  # grc was 4x the cross derivative
+        half += q
+        strength = np.sqrt(half)
+        strength -= (grr + gcc) * 0.5
+        strength *= sigma * sigma
+        if n == 0:
+            fine = strength
+            best = strength.copy()
+        else:
+            better = strength > best
+            np.maximum(best, strength, out=best)
+            which[better] = n
+    return best, smoothed, which, fine
+
+
+def _sigmas(wppm: float) -> list[float]:
+    return sorted({max(round(s * wppm, 1), MIN_SIGMA_PX) for s in SCALES_MM})
+
+
+def normals(smoothed: list, which: np.ndarray, rows: np.ndarray, cols: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The unit normal (row, col) across the ridge at the given pixels, at each one's best scale."""
+    h, w = which.shape
+    r = rows.clip(1, h - 2)
+    c = cols.clip(1, w - 2)
+    grr = np.empty(len(r), np.float32)
+    gcc = np.empty(len(r), np.float32)
+    grc = np.empty(len(r), np.float32)
+    sel = which[rows, cols]
+    for n, g in enumerate(smoothed):
+        m = sel == n
+        if not m.any():
+            continue
+        rr, cc = r[m], c[m]
+        mid = g[rr, cc]
+        grr[m] = g[rr + 1, cc] - 2 * mid + g[rr - 1, cc]
+        gcc[m] = g[rr, cc + 1] - 2 * mid + g[rr, cc - 1]
+        grc[m] = (g[rr + 1, cc + 1] - g[rr + 1, cc - 1] - g[rr - 1, cc + 1] + g[rr - 1, cc - 1]) * 0.25
+    low = (grr + gcc) * 0.5 - np.sqrt(((grr - gcc) * 0.5) ** 2 + grc * grc)
+    ar, ac = low - gcc, grc
+    br, bc = grc, low - grr
+    use_a = ar * ar + ac * ac >= br * br + bc * bc
+    vr = np.where(use_a, ar, br)
+    vc = np.where(use_a, ac, bc)
+    norm = np.maximum(np.sqrt(vr * vr + vc * vc), 1e-12)
+    return vr / norm, vc / norm
+
+
+def centre_lines(strength: np.ndarray, smoothed: list, which: np.ndarray, wppm: float) -> np.ndarray:
+    """The ridges' centre lines: non-maximum suppression across each ridge, hysteresis, thinning."""
+    from scipy import ndimage
+
+    h, w = strength.shape
+    W = w + 2
+    pad = np.zeros((h + 2, W), np.float32)
+    pad[1:-1, 1:-1] = strength
+    flat = pad.ravel()
+    cand = np.flatnonzero(flat > RIDGE_LOW)
+    rows, cols = np.divmod(cand, W)
+    ok = (rows >= 1) & (rows <= h) & (cols >= 1) & (cols <= w)
+    cand, rows, cols = cand[ok], rows[ok] - 1, cols[ok] - 1
+    # the neighbour across the ridge, the normal rounded to one of the 8 directions
+    nr, nc = normals(smoothed, which, rows, cols)
+    step = np.rint(nr * 1.2).clip(-1, 1).astype(np.int64) * W + np.rint(nc * 1.2).clip(-1, 1).astype(np.int64)
+    v = flat[cand]
+    keep = (v >= flat[cand + step]) & (v > flat[cand - step])
+    peak = np.zeros(h * w, bool)
+    peak[rows[keep] * w + cols[keep]] = True
+    peak = peak.reshape(h, w)
+    labels, n = ndimage.label(peak, np.ones((3, 3)))
+    if n == 0:
+        return peak
+    strong = np.zeros(n + 1, bool)
+    strong[np.unique(labels[peak & (strength > RIDGE_HIGH)])] = True
+    size = np.bincount(labels.ravel(), minlength=n + 1)
+    strong &= size >= MIN_LINE_MM * wppm * 0.7
+    strong[0] = False
+    lines = strong[labels]
+    # a ridge's end may fork round a pixel (a rounded cap): fill such one-pixel holes, or thinning
+    # keeps them as a tiny loop and the end is lost
+    hole = ~lines[1:-1, 1:-1] & lines[:-2, 1:-1] & lines[2:, 1:-1] & lines[1:-1, :-2] & lines[1:-1, 2:]
+    lines[1:-1, 1:-1] |= hole
+    return minimal(thin_sparse(lines))
+
+
+def minimal(mask: np.ndarray) -> np.ndarray:
+    """The thinned lines with their corners cut: a pixel whose two 4-neighbours at a right angle
+    are joined diagonally anyway, and that has nothing on the far side, is dropped. Thinning may
+    leave such a pixel as a little triangle where lines meet or a ridge end forks, and that reads
+    as a crossing."""
+    h, w = mask.shape
+    grid = np.pad(mask, 1).ravel()
+    _cut_corners(grid, w + 2)
+    return grid.reshape(h + 2, w + 2)[1:-1, 1:-1].copy()
+
+
+def _cut_corners(grid: np.ndarray, W: int) -> None:
+    """minimal() in place on a flattened grid W wide with an empty one-pixel frame."""
+    n, e, s, west = -W, 1, W, -1
+    for a, b in ((n, e), (e, s), (s, west), (west, n)):
+        on = np.flatnonzero(grid)
+        far = -(a + b)  # the diagonal opposite the corner
+        cut = grid[on + a] & grid[on + b] & ~grid[on + far] & ~grid[on - a] & ~grid[on - b]
+        grid[on[cut]] = False
+
+
+def thin_sparse(mask: np.ndarray) -> np.ndarray:
+    """The binary system's thinning (its passes and tables) computed on the set pixels only:
+    masks of thin lines cost what their pixels do, not what the image does."""
+    from ..binary import NEIGHBOURS as PAPER_NEIGHBOURS  # the paper's thinning, where it lives
+    from ..binary import deletion_tables
+
+    tables = deletion_tables()
+    h, w = mask.shape
+    W = w + 2
+    grid = np.zeros((h + 2) * W, bool)
+    grid.reshape(h + 2, W)[1:-1, 1:-1] = mask
+    offsets = np.array([dr * W + dc for dr, dc in PAPER_NEIGHBOURS])
+    on = np.flatnonzero(grid)
+    quiet = 0
+    p = 0
+    while quiet < 4 and p < 400:
+        codes = np.zeros(len(on), np.uint8)
+        for k, o in enumerate(offsets):
+            codes |= grid[on + o].astype(np.uint8) << k
+        remove = tables[p % 4][codes]
+        if remove.any():
+            grid[on[remove]] = False
+            on = on[~remove]
+            quiet = 0
+        else:
+            quiet += 1
+        p += 1
+    return grid.reshape(h + 2, W)[1:-1, 1:-1].copy()
+
+

@@ -1,0 +1,519 @@
+"""Reading one end of a centre line: its tip, width, the room round it and the sighting.
+
+EndReader is about 400 lines, over the ~300 we hold classes to: reading an end is one chain
+of steps (step 5-7 of the finder, see the package's docstring) over the same samplers of the
+contrast, the shadows and the rim, which the class holds for the image; split into several
+classes, each step would take the same half-dozen arrays again. Each method is one step."""
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..common import FRAME_MARGIN_MM, GRASP_MM, principal_direction
+from ..sighting import Sighting
+from .contrast import Contrast, _corners, _mix, bilinear, shadow_free
+from .graph import SPAN_MM, Graph
+from .rim import RIM_EDGE_MM
+
+if TYPE_CHECKING:
+    from . import RidgeResult
+
+CLEARANCE_MM = 4.6  # free board round the grasp point, from the centre line: the fingers' room
+SIDE_FREE_MM = 0.9  # free board beside the wire's edges along the span and beyond its tip
+SPAN_SLACK_MM = 2.0  # ... along the span and this much more: a wire crossing just past it touches it (tip and arc errors)
+SHADOW_LIKE_WIRE = 0.2  # a wire this much of whose centre line looks like shadow: shadows are not told from it
+SHADOW_SIDE = 0.3  # ... and one that casts one: so much of the board along one side of it looks like shadow
+TIP_MAX_MM = 12.0  # the longest ferrule or stripped conductor followed past the insulation
+CONDUCTOR_RIDGE = 1.5  # the finest scale's ridge strength that marks a thin conductor
+CONDUCTOR_CONTRAST = 1.2  # a faint conductor: its axis this far (spreads) above the board beside it
+CONDUCTOR_MIN_MM = 2.5  # ... at least this long (a shorter one is the blur or the shadow of the end)
+CONDUCTOR_WINDOW_MM = 1.0  # ... on average over this much of its length
+CONDUCTOR_NARROW = 0.7  # ... and narrower than the wire: 0.45 of its width off the axis, less than this share of it
+TIP_START_MM = 10.0  # the search for the tip starts this far in along the centre line: on the insulation
+END_FIT_MM = 8.0  # the ridge's direction at its end, to search for the tip along: over this much of it
+TIP_FIT_MM = (1.0, 5.0)  # the end's direction: the chord of the centre line this far from the tip (its first
+# mm may hook; a longer chord leans with a wire curving near its end, and a parabola's slope at the tip, tried
+# too, is the noisiest of the three)
+BRIDGE_MM = 0.6  # across a wire, a break in its contrast narrower than this is no edge (a specular line)
+TANGENT_MM = 2.5  # the tangent at the grasp point: over this much either side
+BOARD_FLOOR = 4.0  # contrast (spreads) below which a pixel may be bare board, whatever the wire
+TIP_SHARE = 0.5  # the tip: where the contrast falls below half the wire's (a blurred edge's middle; a shadow is fainter)
+BOARD_SHARE = 0.3  # ... and below this share of the wire's own contrast
+FADE_SHARE = 0.12  # straight past a tip, this share of the wire's contrast still means wire
+FADE_FLOOR = 2.5  # ... and so does this much (spreads): bare board beyond an end is darker than that
+RUN_MM = 0.6  # beside the span: contrast this long along the wire is something there
+CAP_HITS = 3  # beyond the tip and round the grasp point: so many samples with contrast are something
+DISC_HITS = 4
+ROOM_BAND_MM = (1.0, 2.0, 3.0)  # the room round a free end: bands this far out from the wire's edges along the span
+ROOM_CAP_MM = (1.5, 3.0)  # ... arcs this far beyond its tip
+ROOM_PERCENTILE = 95.0  # ... each band and the disc round the grasp point judged by its nearly-highest contrast
+MIDDLE_THROUGH = 0.8  # a middle grasp: its line runs on this share of the way out of the disc round it, both ways
+MIDDLE_BOW = 0.5  # ... bowing from its tangent there by no more than this share of that
+
+
+class EndReader:
+    """Reads one centre-line end: classify it, follow its tip, check it is free, make a Sighting."""
+
+    def __init__(self, con: Contrast, flat: np.ndarray, fine: np.ndarray, graph: Graph, wppm: float, k: int,
+                 result: RidgeResult, outside: np.ndarray | None = None) -> None:
+        self.con = con
+        self.f = con.f  # the contrast
+        self.g = graph
+        self.wppm = wppm
+        self.k = k
+        self.result = result
+        self.h, self.w = self.f.shape
+        # what sample() may be asked for: F, its saturated form (what centres the line), the finest
+        # scale's ridge strength
+        self.layers = (con.f, flat, fine)
+        self.shadows = False  # whether shadows round the wire being read are told from things (set by read)
+        self.rim = None  # how far (working px) each pixel lies from a rim or bench the frame shows, if any
+        if outside is not None and outside.any():
+            from scipy import ndimage
+
+            self.rim = ndimage.distance_transform_edt(~outside).astype(np.float32)
+
+    def off_tray(self, pts: np.ndarray, margin: float) -> np.ndarray:
+        """Which points lie within margin (working px) of a rim or bench the frame shows."""
+        if self.rim is None:
+            return np.zeros(len(pts), bool)
+        r = np.clip(np.round(pts[:, 0]).astype(int), 0, self.h - 1)
+        c = np.clip(np.round(pts[:, 1]).astype(int), 0, self.w - 1)
+        return self.rim[r, c] < margin
+
+    def refuse(self, at, why: str) -> None:
+        r, c = at
+        self.result.rejected.append(((float((c + 0.5) * self.k - 0.5), float((r + 0.5) * self.k - 0.5)), why))
+
+    F, FLAT, FINE = 0, 1, 2  # the layers sample() may be asked for
+
+    def sample(self, pts: np.ndarray, of: int = F) -> np.ndarray:
+        """One layer (F, FLAT or FINE) at the points."""
+        return bilinear(self.layers[of], pts)
+
+    def shade(self, pts: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(F, F with the board in shadow counted as board, which points look so) at the points."""
+        at = _corners(self.h, self.w, pts)
+        f = _mix(self.f, *at)
+        free, shade = shadow_free(self.con, _mix(self.con.work, *at), _mix(self.con.board, *at), f)
+        return f, free, shade
+
+    def around(self, pts: np.ndarray) -> np.ndarray:
+        """The contrast at points round the wire (not on it): shadows on the board count as board
+        unless the wire being read looks like a shadow itself."""
+        return self.shade(pts)[1] if self.shadows else self.sample(pts)
+
+    def read(self, end: int):
+        g, mm = self.g, self.wppm
+        start = np.array(g.rc(end), float)
+        border = FRAME_MARGIN_MM * mm
+        path, how = g.trace(end, (SPAN_MM + CLEARANCE_MM + 4.0) * mm * 1.1)  # past the disc round the grasp
+        line = np.array([g.rc(i) for i in path], float)
+        if len(line) >= 5:  # the pixel staircase smoothed, so arc lengths along it are true lengths
+            from scipy import ndimage
+
+            line = ndimage.uniform_filter1d(line, 5, axis=0, mode="nearest")
+        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(line, axis=0), axis=1))])
+        if how == "crossing" and arc[-1] < SPAN_MM * mm:
+            return self.refuse(start, f"it meets another line {arc[-1] / mm:.0f} mm from its end")
+        if how == "end" and arc[-1] < SPAN_MM * mm:
+            return self.refuse(start, f"the line is only {arc[-1] / mm:.0f} mm long")
+        fit = line[arc <= END_FIT_MM * mm]
+        inward = principal_direction(fit) if len(fit) >= 3 else line[-1] - line[0]
+        inward = inward / max(float(np.linalg.norm(inward)), 1e-9)
+        if inward @ (line[min(len(line) - 1, len(fit))] - line[0]) < 0:
+            inward = -inward
+        # the wire's contrast and width along its first SPAN_MM
+        core = self.sample(line)
+        level = float(np.median(core))
+        board = max(BOARD_FLOOR, BOARD_SHARE * level)
+        width = self.width(line, board)
+        self.shadows = self.casts_shadow(line, width)
+        # the tip: from inside the wire, follow the contrast outward along the centre line and on
+        # past the ridge's end (which smoothing may carry beyond the wire) to where it drops
+        out = -inward
+        beyond = np.arange(TIP_MAX_MM * mm, 0.0, -0.5)
+        ext = np.vstack([start + beyond[:, None] * out, line])
+        es = np.concatenate([-beyond, arc])
+        inside = es <= TIP_START_MM * mm
+        scan = ext[inside][::-1]  # from TIP_START_MM in, outward
+        scan_s = es[inside][::-1]
+        side = np.array([-out[1], out[0]])
+        lateral = np.array([-0.25, 0.0, 0.25]) * width
+        ray = scan[:, None, :] + lateral[None, :, None] * side
+        along = self.around(ray.reshape(-1, 2)).reshape(len(scan), len(lateral)).max(axis=1)
+        thin = self.sample(ray.reshape(-1, 2), self.FINE).reshape(len(scan), len(lateral)).max(axis=1)
+        # the wire goes on while it stands out as the insulation does (shadows on the board do not
+        # count), or as a thin conductor does: a faint but sharp ridge on the axis (a shadow or a
+        # blur is faint and broad; tin or a ferrule may have the colour of a shadow)
+        conductor = (along >= BOARD_FLOOR) & (thin >= CONDUCTOR_RIDGE)
+        edge = max(BOARD_FLOOR, TIP_SHARE * level)
+        below = (along < edge) & ~conductor
+        along = np.where(conductor & (along < edge), edge, along)
+        gone = np.flatnonzero(below[:-1] & below[1:])
+        if not gone.size:
+            return self.refuse(start, "its contrast runs on past its end (under or into something)")
+        i = int(gone[0])
+        if i == 0:
+            return self.refuse(start, "no wire to be seen at its end")
+        a, b = along[i - 1], along[i]
+        frac = float(np.clip((a - edge) / max(a - b, 1e-6), 0, 1))
+        tip_s = scan_s[i - 1] + frac * (scan_s[i] - scan_s[i - 1])
+        tip = np.array([np.interp(tip_s, es, ext[:, 0]), np.interp(tip_s, es, ext[:, 1])])
+        tip = self.conductor(tip, out, width)
+        r, c = tip
+        if r < border or c < border or r > self.h - 1 - border or c > self.w - 1 - border:
+            return self.refuse(start, "its end is at the frame's border")
+        if self.off_tray(tip[None, :], border)[0]:
+            return self.refuse(start, "its end is at the tray's rim")
+        # the centre line from the tip, and the grasp point GRASP_MM along it
+        full = self.recentred(_resample(np.vstack([tip[None, :], ext[es > tip_s + 0.5]]), 1.0), width)
+        s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(full, axis=0), axis=1))])
+        if s[-1] < SPAN_MM * mm * 0.98 and how != "far":
+            return self.refuse(start, "too little wire past its end")
+        if np.any(full < border) or np.any(full[:, 0] > self.h - 1 - border) or np.any(full[:, 1] > self.w - 1 - border):
+            return self.refuse(start, "the wire runs off the frame near its end")
+        if self.off_tray(full, border).any():
+            return self.refuse(start, "the wire runs to the tray's rim near its end")
+        head = full[(s >= TIP_FIT_MM[0] * mm) & (s <= TIP_FIT_MM[1] * mm)]
+        if len(head) >= 3:  # the direction at the tip itself (a ridge may bend as it overshoots the end)
+            inward, on_axis = tip_axis(head, full[0])
+        else:
+            on_axis = full[0]
+        grasp = np.array([np.interp(GRASP_MM * mm, s, full[:, 0]), np.interp(GRASP_MM * mm, s, full[:, 1])])
+        near = (s >= (GRASP_MM - TANGENT_MM) * mm) & (s <= (GRASP_MM + TANGENT_MM) * mm)
+        tangent = principal_direction(full[near]) if near.sum() >= 3 else inward
+        span = self.span(full, grasp, width)
+        why = self.crowded(span, tip, out, width, board, level)
+        if why:
+            return self.refuse(start, why)
+        clutter = self.clutter(span, tip, out, width, board)
+        grasp = self.centred(grasp, tangent, width)
+        return self.sighting(on_axis, inward, grasp, tangent, 1.0 / (1.0 + clutter))
+
+    def middle(self, p: np.ndarray, bow: float = MIDDLE_BOW):
+        """A Sighting to take the wire by its middle at centre-line point p, or None (refused):
+        its line must bow from its tangent by no more than `bow` of the disc's radius."""
+        mm = self.wppm
+        reach = (CLEARANCE_MM + 2.0) * mm  # past the fingers' disc (and so the frame's margin)
+        if min(p[0], p[1], self.h - 1 - p[0], self.w - 1 - p[1]) < reach or self.off_tray(p[None, :], reach)[0]:
+            return None  # the disc for the fingers would run off the frame or the tray
+        skel = self.g.skeleton
+        r0, c0 = int(p[0]), int(p[1])
+        rad = int(math.ceil(reach))
+        win = skel[r0 - rad:r0 + rad + 1, c0 - rad:c0 + rad + 1]
+        from scipy import ndimage
+
+        pieces, _ = ndimage.label(win, np.ones((3, 3)))
+        own = np.column_stack(np.nonzero(pieces == pieces[rad, rad])).astype(float) + (p - rad)
+        near = own[((own - p) ** 2).sum(axis=1) <= (TANGENT_MM * mm) ** 2]
+        if len(near) < 3:
+            return None
+        tangent = principal_direction(near)
+        # the local centre line through p, ordered along the tangent: it must run on through the
+        # disc round p both ways and bend no more than a wire does (a small thing's outline, a
+        # printed line's broken grid does not)
+        along = (own - p) @ tangent
+        across = np.abs((own - p) @ np.array([-tangent[1], tangent[0]]))
+        if along.min() > -MIDDLE_THROUGH * reach or along.max() < MIDDLE_THROUGH * reach \
+                or across.max() > bow * reach:
+            return None
+        line = own[np.argsort(along)]
+        level = float(np.median(self.sample(line)))
+        board = max(BOARD_FLOOR, BOARD_SHARE * level)
+        width = self.width(line, board)
+        seen = self._seen(self.fingers_room(p, own, width))
+        if np.count_nonzero(seen >= board) >= DISC_HITS:
+            return None
+        room = float(np.percentile(seen, ROOM_PERCENTILE)) / board if len(seen) else 0.0
+        return self.sighting(p, tangent, p, tangent, 1.0 / (1.0 + room))
+
+    def casts_shadow(self, line: np.ndarray, width: float) -> bool:
+        """Whether the wire casts a shadow that can be told from it: its own centre line does not
+        look like board in shadow, and the board along one side of it does, much more than along
+        the other (a light from one side)."""
+        if len(line) < 5:
+            return False
+        n = _normals(line)
+        offs = width / 2 + np.array([0.6, 1.0]) * self.wppm  # past the blur of the wire's edge
+        offs = np.concatenate([-offs, offs])  # one side, then the other
+        pts = (line[:, None, :] + offs[None, :, None] * n[:, None, :]).reshape(-1, 2)
+        f, _, shade = self.shade(np.vstack([line, pts]))
+        if float(shade[:len(line)].mean()) >= SHADOW_LIKE_WIRE:
+            return False
+        looks = (shade & (f >= BOARD_FLOOR))[len(line):].reshape(len(line), 2, 2)
+        share = looks.mean(axis=(0, 2))
+        # a blurred edge looks like shadow on both sides alike
+        return bool(share.max() >= SHADOW_SIDE and share.min() <= 0.5 * share.max())
+
+    def conductor(self, end: np.ndarray, out: np.ndarray, width: float) -> np.ndarray:
+        """The tip of a faint conductor or ferrule running on straight past the insulation's end
+        (end), or end itself if there is none. It runs while the contrast on the axis (the most
+        of three samples across it), averaged over CONDUCTOR_WINDOW_MM, stands CONDUCTOR_CONTRAST
+        above the board beside it; its tip is where that contrast falls to TIP_SHARE of its own."""
+        from scipy import ndimage
+
+        mm = self.wppm
+        steps = np.arange(0.5, TIP_MAX_MM * mm, 0.5)
+        side = np.array([-out[1], out[0]])
+        lateral = np.array([-0.2 * width, 0.0, 0.2 * width, -(width / 2 + mm), width / 2 + mm, -0.45 * width,
+                            0.45 * width])
+        pts = end + steps[:, None, None] * out + lateral[None, :, None] * side
+        flat_pts = pts.reshape(-1, 2)
+        if self.shadows:  # board in shadow beyond the tip is no conductor, unless a sharp ridge runs on it
+            v, free, shade = self.shade(flat_pts)
+            v = np.where(shade & (self.sample(flat_pts, self.FINE) < CONDUCTOR_RIDGE), free, v)
+        else:
+            v = self.sample(flat_pts)
+        v = v.reshape(len(steps), len(lateral))
+        board = v[:, 3:5].mean(axis=1)
+        rise = v[:, :3].max(axis=1) - board  # a thin conductor may lie off the axis
+        n = max(round(CONDUCTOR_WINDOW_MM * mm * 2), 1)
+        mean = ndimage.uniform_filter1d(rise, n, mode="nearest")  # over the window centred on each step
+        # a dip shorter than half the window is no gap: a line thinner than two pixels comes and
+        # goes as it crosses the pixel grid (and strands or JPEG blocks break it up)
+        held = ndimage.maximum_filter1d(rise, max(n // 2, 1), mode="nearest")
+        on = (mean >= CONDUCTOR_CONTRAST) & (held >= 0.5 * CONDUCTOR_CONTRAST)
+        off = np.flatnonzero(~on)
+        run = int(off[0]) if off.size else len(on)
+        if run < n or steps[run - 1] < CONDUCTOR_MIN_MM * mm:
+            return end  # nothing that runs on far enough: the blur of the end itself, or its shadow
+        if np.median(v[:run, 5:7].mean(axis=1) - board[:run]) > CONDUCTOR_NARROW * np.median(rise[:run]):
+            return end  # as wide as the wire: the end's shadow or the blur of a rounded end
+        # its tip, as the insulation's: where its own contrast falls to TIP_SHARE of what it is
+        # along it; over half the window, as the dips are no gap (an average over a centred
+        # window crosses a step's half height where it steps)
+        short = ndimage.uniform_filter1d(rise, max(n // 2, 1), mode="nearest")
+        own = float(np.median(short[:run]))
+        edge = max(CONDUCTOR_CONTRAST, TIP_SHARE * own)
+        low = np.flatnonzero(short[:run] < edge)
+        low = low[low >= n]  # not in the tip's own first window
+        i = int(low[0]) if low.size else run
+        if i >= run:
+            return end + out * steps[run - 1]
+        a, b = short[i - 1], short[i]
+        frac = float(np.clip((a - edge) / max(a - b, 1e-6), 0, 1))
+        return end + out * (steps[i - 1] + frac * 0.5)
+
+    def recentred(self, line: np.ndarray, width: float) -> np.ndarray:
+        """The centre line moved across the wire to the middle of its contrast (sub-pixel); the
+        first point, the tip, put on the centred line's extension."""
+        from scipy import ndimage
+
+        if len(line) < 5:
+            return line
+        n = _normals(line)
+        offs = np.linspace(-0.8 * width, 0.8 * width, 9)
+        pts = line[:, None, :] + offs[None, :, None] * n[:, None, :]
+        prof = self.sample(pts.reshape(-1, 2), self.FLAT).reshape(len(line), len(offs))
+        wts = np.clip(prof - 0.5 * prof.max(axis=1, keepdims=True), 0, None)
+        total = wts.sum(axis=1)
+        shift = np.where(total > 0, (wts * offs).sum(axis=1) / np.maximum(total, 1e-9), 0.0)
+        shift = ndimage.median_filter(np.clip(shift, -0.5 * width, 0.5 * width), 5, mode="nearest")
+        shift = ndimage.uniform_filter1d(shift, 5, mode="nearest")
+        out = line + shift[:, None] * n
+        # the tip: on the centred line's own extension, as far out as the tip search put it
+        ahead = out[1] - out[min(4, len(out) - 1)]
+        ahead /= max(float(np.linalg.norm(ahead)), 1e-9)
+        out[0] = out[1] + ahead * float(np.linalg.norm(line[0] - line[1]))
+        return out
+
+    def width(self, line: np.ndarray, board: float) -> float:
+        """The wire's width (working px): across it at five places, how far its contrast stands
+        above the board (and above 0.4 of its peak) without a break, the median."""
+        if len(line) < 8:
+            return 2.0
+        idx = np.linspace(len(line) // 4, len(line) - 2, 5).astype(int)
+        t = line[np.minimum(idx + 2, len(line) - 1)] - line[np.maximum(idx - 2, 0)]
+        t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-9)
+        n = np.column_stack([-t[:, 1], t[:, 0]])
+        offs = np.arange(-4.0 * self.wppm, 4.0 * self.wppm + 0.01, 0.5)
+        prof = self.sample((line[idx][:, None, :] + offs[None, :, None] * n[:, None, :]).reshape(-1, 2))
+        prof = prof.reshape(len(idx), len(offs))
+        mid = len(offs) // 2
+        peak = prof[:, mid - 4:mid + 5].max(axis=1, keepdims=True)
+        above = prof >= np.maximum(0.4 * peak, board)
+        # a break narrower than BRIDGE_MM is no edge: the specular line along a glossy wire (it may
+        # be as light as the board), or a grain
+        above = _bridged(above, int(round(BRIDGE_MM * self.wppm / 0.5)))
+        # in each row, the run of `above` through the sample nearest the centre line that is in it
+        window = above[:, mid - 3:mid + 4]
+        seen = window.any(axis=1)
+        if not seen.any():
+            return 2.0
+        m = mid - 3 + np.argmin(np.where(window, np.abs(np.arange(7) - 3), 99), axis=1)[:, None]
+        at = np.arange(above.shape[1])[None, :]
+        lo = np.where(~above & (at < m), at, -1).max(axis=1) + 1
+        hi = np.where(~above & (at > m), at, above.shape[1]).min(axis=1) - 1
+        widths = (hi - lo + 1)[seen] * 0.5
+        return float(np.clip(np.median(widths), 1.0, 4.0 * self.wppm))
+
+    def span(self, full, grasp, width) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """What the free test and the room round an end look beside: the centre line along the
+        span (its first SPAN_MM and the slack: what lies beside the wire further on is no
+        matter) at 1 px steps, its normals, and the points of the CLEARANCE_MM disc round the
+        grasp point less the wire itself (clear of its centre line near the grasp point)."""
+        mm = self.wppm
+        dense = _resample(full, 1.0)
+        ds = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))])
+        along = ds <= (SPAN_MM + SPAN_SLACK_MM) * mm
+        local = dense[np.abs(ds - GRASP_MM * mm) <= (CLEARANCE_MM + 3.0) * mm]
+        disc = self.fingers_room(grasp, local, width)
+        return dense[along], _normals(dense)[along], disc
+
+    def fingers_room(self, at: np.ndarray, line: np.ndarray, width: float) -> np.ndarray:
+        """The points of the CLEARANCE_MM disc round `at` less the wire itself: those farther
+        than its half width (and a little) from the centre-line points `line` near there."""
+        mm = self.wppm
+        disc = _disc(CLEARANCE_MM * mm) + at
+        if not len(line):
+            return disc
+        d2 = ((disc * disc).sum(axis=1)[:, None] + (line * line).sum(axis=1)[None, :]
+              - 2.0 * disc @ line.T).min(axis=1)
+        return disc[d2 > (width / 2 + 0.6 * SIDE_FREE_MM * mm) ** 2]
+
+    def crowded(self, span, tip, out, width, board, level) -> str:
+        """Why the wire near its end is not free (board must show around it), or ''."""
+        mm = self.wppm
+        half = width / 2
+        line, n, disc = span
+        # beside the span, both sides
+        offs = half + np.array([0.6, 0.9, 1.2]) * SIDE_FREE_MM * mm
+        band = (line[:, None, None, :] + (np.array([-1, 1])[None, :, None, None] * offs[None, None, :, None])
+                * n[:, None, None, :]).reshape(-1, 2)
+        # beyond the tip
+        dirs = _fan(out)
+        cap = (tip[None, None, :] + (half + np.array([0.7, 1.0, 1.4, 2.0, 2.8]) * SIDE_FREE_MM * mm)[None, :, None]
+               * dirs[:, None, :]).reshape(-1, 2)
+        values = self._seen(np.vstack((band, cap, disc)))
+        hit = values >= board
+        nb, nc = len(band), len(cap)
+        # straight on past the tip, even a faint contrast that goes on is the wire going on into
+        # light or a colour that hides it, not its end
+        ahead = values[nb:nb + nc].reshape(len(_FAN), -1)[len(_FAN) // 2 - 1:len(_FAN) // 2 + 2]
+        if np.count_nonzero(ahead >= max(FADE_FLOOR, FADE_SHARE * level)) >= ahead.size // 2:
+            return "its contrast fades but goes on past its end"
+        # beside the span, something that goes on for RUN_MM along it (a speck of the board's
+        # texture or a thin printed line does not)
+        runs = hit[:nb].reshape(len(line), -1)
+        need = max(round(RUN_MM * mm), 2)
+        if runs.shape[0] >= need:  # a run of `need` hits down any one column
+            c = np.cumsum(np.vstack([np.zeros((1, runs.shape[1]), int), runs]), axis=0)
+            if int((c[need:] - c[:-need]).max()) >= need:
+                return "another wire or something lies beside it"
+        if np.count_nonzero(hit[nb:nb + nc]) >= CAP_HITS:
+            return "something lies just beyond its end"
+        if np.count_nonzero(hit[nb + nc:]) >= DISC_HITS:
+            return "no room for the fingers at the grasp point"
+        return ""
+
+    def clutter(self, span, tip, out, width, board) -> float:
+        """How near something comes to a free end: the most contrast, relative to the board's
+        threshold, in bands ROOM_BAND_MM out from the wire's edges along its span (each band's
+        ROOM_PERCENTILE), on arcs ROOM_CAP_MM beyond its tip (the most), and in the disc round
+        the grasp point (its ROOM_PERCENTILE). 1 or more: something as strong as the threshold
+        for a thing there comes that near (within the free test's bands only if it is too
+        small or too short to count there)."""
+        mm = self.wppm
+        half = width / 2
+        line, n, disc = span
+        worst = []
+        for d in ROOM_BAND_MM:
+            off = half + d * mm
+            band = np.vstack((line + off * n, line - off * n))
+            worst.append(np.percentile(self._seen(band), ROOM_PERCENTILE))
+        cap = (tip[None, None, :] + (half + np.array(ROOM_CAP_MM) * mm)[:, None, None] * _fan(out)[None, :, :])
+        worst.append(self._seen(cap.reshape(-1, 2)).max())
+        if len(disc):
+            worst.append(np.percentile(self._seen(disc), ROOM_PERCENTILE))
+        return float(max(worst)) / board
+
+    def _seen(self, pts: np.ndarray) -> np.ndarray:
+        """around() at the points; nothing where they fall off the image or within RIM_EDGE_MM of a
+        rim or the bench round the tray (which is neither board nor a thing there)."""
+        inside = (pts[:, 0] >= 0) & (pts[:, 1] >= 0) & (pts[:, 0] <= self.h - 1) & (pts[:, 1] <= self.w - 1)
+        if self.rim is not None:
+            inside &= ~self.off_tray(pts, RIM_EDGE_MM * self.wppm)
+        return np.where(inside, self.around(pts), 0.0)
+
+    def centred(self, grasp, tangent, width) -> np.ndarray:
+        """The grasp point moved across the wire to the middle of its contrast."""
+        n = np.array([-tangent[1], tangent[0]])
+        offs = np.arange(-width, width + 0.01, 0.25)
+        prof = self.sample(grasp + offs[:, None] * n)
+        wts = np.clip(prof - 0.5 * prof.max(), 0, None)
+        if wts.sum() <= 0:
+            return grasp
+        shift = float((wts * offs).sum() / wts.sum())
+        return grasp + np.clip(shift, -0.5 * width, 0.5 * width) * n
+
+    def sighting(self, tip, inward, grasp, tangent, score) -> Sighting:
+        k = self.k
+
+        def to_input(p):
+            return ((p[1] + 0.5) * k - 0.5, (p[0] + 0.5) * k - 0.5)
+
+        end_angle = math.degrees(math.atan2(inward[0], inward[1]))
+        grasp_angle = math.degrees(math.atan2(tangent[0], tangent[1])) % 180.0
+        return Sighting(to_input(tip), end_angle, to_input(grasp), grasp_angle, score)
+
+
+def tip_axis(head: np.ndarray, tip: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The unit direction into the wire at its tip, the chord of the centre line's head (the
+    first few mm past the tip), and the tip put on that axis (a hooked ridge end is off it)."""
+    chord = principal_direction(head)
+    if chord @ (head[-1] - head[0]) < 0:
+        chord = -chord
+    middle = head.mean(axis=0)
+    return chord, middle + chord * float((tip - middle) @ chord)
+
+
+_FAN = np.radians(np.linspace(-70, 70, 9))
+
+
+def _fan(out: np.ndarray) -> np.ndarray:
+    """Unit directions within 70 degrees either side of out."""
+    c, s = np.cos(_FAN), np.sin(_FAN)
+    return np.column_stack([out[0] * c - out[1] * s, out[0] * s + out[1] * c])
+
+
+@lru_cache(maxsize=16)
+def _disc_template(radius10: int) -> np.ndarray:
+    radius = radius10 / 10.0
+    grid = np.arange(-radius, radius + 0.01, 0.75)
+    a, b = np.meshgrid(grid, grid)
+    inside = a * a + b * b <= radius * radius
+    return np.column_stack([a[inside], b[inside]])
+
+
+def _disc(radius: float) -> np.ndarray:
+    """Points 0.75 px apart filling a disc of the radius (px) round the origin."""
+    return _disc_template(round(radius * 10))
+
+
+def _bridged(rows: np.ndarray, gap: int) -> np.ndarray:
+    """Each row with its runs of False no longer than gap, between two Trues, made True: a
+    binary closing along the rows (away from their ends)."""
+    at = np.arange(rows.shape[1])
+    before = np.maximum.accumulate(np.where(rows, at, -1), axis=1)
+    after = np.minimum.accumulate(np.where(rows, at, rows.shape[1])[:, ::-1], axis=1)[:, ::-1]
+    return rows | ((before >= 0) & (after < rows.shape[1]) & (after - before - 1 <= gap))
+
+
+def _normals(line: np.ndarray) -> np.ndarray:
+    """The unit normal (row, col) at each point of a polyline, from its central differences."""
+    t = np.gradient(line, axis=0)
+    t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-9)
+    return np.column_stack([-t[:, 1], t[:, 0]])
+
+
+def _resample(pts: np.ndarray, step: float) -> np.ndarray:
+    """A polyline sampled every `step` along it, up to (not past) its length: unlike
+    synth.resample it never repeats the last point, so directions along it stay defined."""
+    seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+    cum = np.concatenate([[0.0], np.cumsum(seg)])
+    s = np.arange(0.0, cum[-1] + 1e-9, step)
+    return np.column_stack([np.interp(s, cum, pts[:, 0]), np.interp(s, cum, pts[:, 1])])

@@ -1,0 +1,94 @@
+"""A tray's rim, or the bench round the tray, along the frame's sides: neither board nor a
+thing on it."""
+from __future__ import annotations
+
+import numpy as np
+
+RIM_SCAN_MM = 25.0  # a tray's rim (or the bench round the tray) is looked for this far in from each side
+RIM_MIN_MM = 1.5  # ... at least this wide
+RIM_SEGMENT_MM = 8.0  # ... in segments of the side this long: each its own profile (a median across it)
+RIM_BOARD_MM = 3.0  # ... against this much board next to it
+RIM_STEP = 0.03  # ... differing from the board by this much (0-1 colour)
+RIM_BOARD_LOW, RIM_BOARD_HIGH = 20, 80  # ... whose spread is judged between these percentiles
+RIM_CLEAR = 4.0  # ... this many times more than the band or the board varies
+RIM_SHARE = 0.6  # ... along this share of the side's segments
+RIM_BEND_PX = 1.5  # ... on one smooth curve (a lens bows a straight rim) to within this
+RIM_EDGE_MM = 1.0  # the blur of a rim's edge: samples this near it say nothing of what lies round an end
+
+
+def find_rim(work: np.ndarray, wppm: float) -> np.ndarray:
+    """Where the frame shows a tray's rim or the bench round the tray, (rows, cols) bool: along a
+    side, a band from the frame's edge of one even colour that gives way, on one smooth curve, to
+    a different, even board. What lies there is not on the tray: ends near it are refused as at
+    the frame's border, and it is neither board nor a thing round an end."""
+    outside = np.zeros(work.shape[:2], bool)
+    # each side seen as the left one: rows along it, columns inward (views, so the mask is written through)
+    sides = (lambda a: a, lambda a: a[:, ::-1], lambda a: a.swapaxes(0, 1), lambda a: a[::-1].swapaxes(0, 1))
+    for side in sides:
+        v = side(work)
+        n, m = v.shape[:2]
+        depth = min(int(0.2 * m), int(RIM_SCAN_MM * wppm))
+        seg = max(int(RIM_SEGMENT_MM * wppm), 4) // 2 * 2
+        board = max(int(RIM_BOARD_MM * wppm), 3)
+        kmin = max(int(RIM_MIN_MM * wppm), 2)
+        gap = max(round(RIM_EDGE_MM * wppm), 2)
+        nseg = n // seg
+        if depth < kmin + board + gap + 2 or nseg < 3:
+            continue
+        rows = v[:nseg * seg:2, :depth]  # every other row: a median across 8 mm needs no more
+        prof = np.median(rows.reshape(nseg, -1, depth, rows.shape[2]), axis=1)  # (nseg, depth, channels)
+        edges = _steps(prof, kmin, board, gap)
+        ok = np.isfinite(edges)
+        if ok.mean() < RIM_SHARE:
+            continue
+        centres = np.arange(nseg) * seg + seg / 2
+        coef = np.polyfit(centres[ok], edges[ok], 2)
+        ok &= np.abs(np.polyval(coef, centres) - np.nan_to_num(edges)) <= RIM_BEND_PX
+        if ok.mean() < RIM_SHARE:
+            continue
+        coef = np.polyfit(centres[ok], edges[ok], 2)
+        k = np.clip(np.polyval(coef, np.arange(n)) + 1.0, 0, depth)
+        mask = side(outside)
+        mask |= np.arange(m)[None, :] < k[:, None]
+    return outside
+
+
+def _steps(prof: np.ndarray, kmin: int, board: int, gap: int) -> np.ndarray:
+    """Per segment's profile (nseg, depth, channels) from the frame's edge inward: where an even
+    band from the edge (its first k columns) gives way, across a blurred edge `gap` columns
+    wide, to a board of another colour, even for the most part; NaN where it does not."""
+    nseg, d, _ = prof.shape
+    ks = np.arange(kmin, d - board - gap)
+    if not len(ks):
+        return np.full(nseg, np.nan)
+    band = np.cumsum(prof, axis=1)[:, ks - 1] / ks[None, :, None]  # the mean of the first k columns
+    hi = np.maximum.accumulate(prof, axis=1)[:, ks - 1]
+    lo = np.minimum.accumulate(prof, axis=1)[:, ks - 1]
+    band_spread = np.maximum(hi - band, band - lo).max(axis=2)
+    wide = 3 * board
+    pad = np.concatenate([prof, np.repeat(prof[:, -1:], wide, axis=1)], axis=1)
+    # the board next to it, over the `wide` columns from ks + gap: its median, and how far its
+    # RIM_BOARD_LOW and RIM_BOARD_HIGH percentiles lie from that (a wire or a speck there, or
+    # the board's grain, does not hide the edge); every other column of each window, as the
+    # percentiles need no more and they are the cost
+    windows = np.lib.stride_tricks.sliding_window_view(pad, wide, axis=1)[:, ks + gap, :, ::2]  # (nseg, K, ch, wide/2)
+    low, b, high = np.percentile(windows, (RIM_BOARD_LOW, 50, RIM_BOARD_HIGH), axis=3)  # each (nseg, K, ch)
+    board_spread = np.maximum(high - b, b - low).max(axis=2)
+    step = np.abs(band - b).max(axis=2)
+    score = step / np.maximum(np.maximum(band_spread, board_spread), 0.01)
+    score = np.where((step >= RIM_STEP) & (score >= RIM_CLEAR), score, 0.0)
+    best = score.argmax(axis=1)
+    edges = np.full(nseg, np.nan)
+    for i in np.flatnonzero(score.max(axis=1) > 0):  # the edge: where the profile is half-way across
+        j = best[i]
+        a, z = band[i, j], b[i, j]
+        c = int(np.argmax(np.abs(z - a)))
+        part = (prof[i, :, c] - a[c]) / (z[c] - a[c])
+        beyond = np.flatnonzero(part[ks[j]:] >= 0.5)
+        if beyond.size:
+            e = ks[j] + int(beyond[0])
+            p0, p1 = part[e - 1], part[e]
+            edges[i] = e - 1 + (0.5 - p0) / max(p1 - p0, 1e-6)
+    return edges
+
+
