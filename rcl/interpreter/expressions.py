@@ -1,0 +1,248 @@
+"""The compiler's expressions: each expr_<Node> gives a closure f(fr) -> value, doing only what
+the static types say and the checks only run time can make."""
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from .. import ast as A
+from .. import types as T
+from ..frame import Frame
+from ..scope import Variable
+from ..types import INT_MAX, INT_MIN  # bound here: read on every INTEGER operation
+from .base import _COMPARE, _FIELD_COLUMN, _VECTOR_AXIS, MAX_STRING, CompilerBase
+
+
+class Expressions(CompilerBase):
+    def place(self, e: A.Expr) -> tuple[Callable, Callable]:
+        """(get, set) for an assignable expression."""
+        if isinstance(e, A.Name):
+            return self.expr_Name(e), self.store_symbol(e.symbol)
+        if isinstance(e, A.Index):
+            array, slot = self.expr(e.obj), self._element_slot(e)
+
+            def get(fr):
+                return slot(fr, array(fr))
+
+            def set_(fr, x):
+                arr = array(fr)
+                arr.items[slot(fr, arr, read=False)] = x
+            if e.type == T.REAL:
+                inner = set_
+
+                def set_(fr, x):
+                    inner(fr, float(x))
+            return get, set_
+        if isinstance(e, A.Field):
+            pget, pset = self.place(e.obj)
+            get = self.expr_Field(e)
+            field = e.name.key
+            if field == "p":
+                def set_(fr, x):
+                    pset(fr, pget(fr).with_p(x))
+            else:
+                axis = _VECTOR_AXIS[field]
+
+                def set_(fr, x):
+                    v = pget(fr).copy()
+                    v[axis] = x
+                    v.flags.writeable = False
+                    pset(fr, v)
+            return get, set_
+        raise AssertionError(f"not a place: {e!r}")  # the checker allows no other targets
+
+    def expr(self, e: A.Expr) -> Callable:
+        return getattr(self, "expr_" + type(e).__name__)(e)
+
+    def expr_as(self, e: A.Expr, target: T.Type | None) -> Callable:
+        """An expression whose value goes where target is expected (INTEGER widens to REAL)."""
+        f = self.expr(e)
+        if target == T.REAL and e.type != T.REAL:
+            return lambda fr: float(f(fr))
+        return f
+
+    def expr_Integer(self, e):
+        value = int(e.text)
+        return lambda fr: value
+
+    def expr_Real(self, e):
+        value = float(e.text)
+        return lambda fr: value
+
+    def expr_String(self, e):
+        value = e.value
+        return lambda fr: value
+
+    def expr_Boolean(self, e):
+        value = e.value
+        return lambda fr: value
+
+    def expr_Name(self, e: A.Name):
+        v = e.symbol
+        if not isinstance(v, Variable):
+            return self.call(v, [], e.span)  # a routine called without ()
+        if v.kind == "const":
+            value = float(v.value) if v.type == T.REAL else v.value
+            return lambda fr: value
+        i, make, span, name = v.slot, self._raiser(), e.span, v.name
+
+        def unset():
+            return make(f"{name} has no value yet", span)
+        if v.is_global:
+            g = self.values
+
+            def get(fr):
+                x = g[i]
+                if x is None:
+                    raise unset()
+                return x
+        elif v.kind == "ref":
+            def get(fr):
+                r = fr[i]
+                x = r.c[r.i]
+                if x is None:
+                    raise unset()
+                return x
+        else:
+            def get(fr):
+                x = fr[i]
+                if x is None:
+                    raise unset()
+                return x
+        return get
+
+    def expr_Field(self, e: A.Field):
+        obj = self.expr(e.obj)
+        field = e.name.key
+        if T.is_frame(e.obj.type):
+            column = _FIELD_COLUMN[field]
+            return lambda fr: obj(fr)._m[:3, column]
+        axis = _VECTOR_AXIS[field]
+        return lambda fr: float(obj(fr)[axis])
+
+    def _element_slot(self, e: A.Index) -> Callable:
+        """slot(fr, array, read=True): the checked list position of e's index (and the element, when reading)."""
+        index, make, span = self.expr(e.index), self._raiser(), e.span
+
+        def slot(fr, arr, read=True):
+            i = index(fr)
+            k = i - arr.low
+            if not 0 <= k < len(arr.items):
+                raise make(f"index {i} is outside the array bounds {arr.low}..{arr.high}", e.index.span)
+            if not read:
+                return k
+            x = arr.items[k]
+            if x is None:
+                raise make(f"element {i} has no value yet", span)
+            return x
+        return slot
+
+    def expr_Index(self, e: A.Index):
+        return self.place(e)[0]
+
+    def expr_Call(self, e: A.Call):
+        return self.call(e.symbol, e.args, e.span, e.type)
+
+    def expr_UnOp(self, e: A.UnOp):
+        f = self.expr(e.operand)
+        if e.op == "NOT":
+            return lambda fr: not f(fr)
+        if e.op == "+":
+            return f
+        if e.type == T.INTEGER:
+            return self._checked(lambda fr: -f(fr), e.span)
+        return lambda fr: -f(fr)
+
+    def _checked(self, f: Callable, span: A.Span) -> Callable:
+        """An INTEGER operation with 64-bit overflow detection."""
+        make = self._raiser()
+
+        def run(fr):
+            x = f(fr)
+            if INT_MIN <= x <= INT_MAX:
+                return x
+            raise make("INTEGER overflow (beyond 64 bits)", span)
+        return run
+
+    def expr_BinOp(self, e: A.BinOp):
+        op, a, b = e.op, self.expr(e.left), self.expr(e.right)
+        ta, tb = e.left.type, e.right.type
+        if op == "AND":
+            return lambda fr: a(fr) and b(fr)
+        if op == "OR":
+            return lambda fr: a(fr) or b(fr)
+        if op in _COMPARE:
+            cmp = _COMPARE[op]
+            return lambda fr: cmp(a(fr), b(fr))
+        if T.is_frame(ta):
+            if T.is_frame(tb):
+                trusted = Frame._trusted
+                return lambda fr: trusted(a(fr)._m @ b(fr)._m)
+            return lambda fr: a(fr).apply(b(fr))
+        if op in ("/", "DIV", "MOD"):
+            return self._division(op, a, b, e)
+        if e.type == T.INTEGER:
+            return self._integer_arithmetic(op, a, b, e.op_span)
+        if e.type == T.STRING:
+            return self._concatenation(a, b, e.op_span)
+        if op == "+":
+            return lambda fr: a(fr) + b(fr)
+        if op == "-":
+            return lambda fr: a(fr) - b(fr)
+        return lambda fr: a(fr) * b(fr)
+
+    def _integer_arithmetic(self, op: str, a: Callable, b: Callable, span: A.Span) -> Callable:
+        """+ - * on INTEGERs, each written out: this is the inner loop of most programs."""
+        make = self._raiser()
+
+        def overflow():
+            return make("INTEGER overflow (beyond 64 bits)", span)
+        if op == "+":
+            def run(fr):
+                x = a(fr) + b(fr)
+                if INT_MIN <= x <= INT_MAX:
+                    return x
+                raise overflow()
+        elif op == "-":
+            def run(fr):
+                x = a(fr) - b(fr)
+                if INT_MIN <= x <= INT_MAX:
+                    return x
+                raise overflow()
+        else:
+            def run(fr):
+                x = a(fr) * b(fr)
+                if INT_MIN <= x <= INT_MAX:
+                    return x
+                raise overflow()
+        return run
+
+    def _concatenation(self, a: Callable, b: Callable, span: A.Span) -> Callable:
+        """STRING + STRING, at most MAX_STRING characters (a doubling loop ends in an error, not in
+        all the memory there is)."""
+        make = self._raiser()
+
+        def run(fr):
+            x, y = a(fr), b(fr)
+            if len(x) + len(y) > MAX_STRING:
+                raise make(f"string too long: {len(x) + len(y):,} characters (at most {MAX_STRING:,})", span)
+            return x + y
+        return run
+
+    def _division(self, op: str, a: Callable, b: Callable, e: A.BinOp) -> Callable:
+        make, span = self._raiser(), e.op_span
+        if op == "/":
+            def run(fr):
+                x, y = a(fr), b(fr)
+                if y == 0:
+                    raise make("division by zero", span)
+                return x / y
+            return run
+
+        whole = T.int_div if op == "DIV" else T.int_mod
+
+        def run_whole(fr):
+            x, y = a(fr), b(fr)
+            if y == 0:
+                raise make("division by zero", span)
+            return whole(x, y)
+        return self._checked(run_whole, span) if op == "DIV" else run_whole

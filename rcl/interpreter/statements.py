@@ -1,0 +1,196 @@
+"""The compiler's statements: each stmt_<Node> gives a closure f(fr) -> None | RETURN."""
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from .. import ast as A
+from .. import types as T
+from ..errors import RclRuntimeError
+from ..scope import Variable
+from .base import RETURN, CompilerBase
+
+
+class Statements(CompilerBase):
+    def block(self, b: A.Block) -> Callable:
+        stmts: Sequence[Callable] = [c for c in (self.stmt(s) for s in b.body) if c is not None]
+        if not stmts:
+            return lambda fr: None
+        if len(stmts) == 1:
+            return stmts[0]
+        stmts = tuple(stmts)
+
+        def run(fr):
+            for s in stmts:
+                if s(fr) is not None:
+                    return RETURN
+        return run
+
+    def stmt(self, s: A.Stmt) -> Callable | None:
+        return getattr(self, "stmt_" + type(s).__name__)(s)
+
+    def stmt_VarDecl(self, s):
+        return None
+
+    stmt_ConstDecl = stmt_RoutineDecl = stmt_VarDecl
+
+    def stmt_Assign(self, s: A.Assign):
+        value = self.expr_as(s.value, s.target.type)
+        if isinstance(s.target.type, T.ArrayType):
+            inner = value
+            value = lambda fr: inner(fr).copy()  # arrays assign by value
+        store = self.place(s.target)[1]
+
+        def run(fr):
+            store(fr, value(fr))
+        return run
+
+    def stmt_CallStmt(self, s: A.CallStmt):
+        c = s.call
+        call = self.call(c.symbol, [], c.span) if isinstance(c, A.Name) else self.expr(c)
+
+        def run(fr):
+            call(fr)
+        return run
+
+    def stmt_If(self, s: A.If):
+        pairs = tuple((self.expr(c), self.block(b)) for c, b in s.branches)
+        otherwise = self.block(s.otherwise) if s.otherwise is not None else None
+        if len(pairs) == 1:
+            (cond, body), = pairs
+            if otherwise is None:
+                return lambda fr: body(fr) if cond(fr) else None
+
+            return lambda fr: body(fr) if cond(fr) else otherwise(fr)
+
+        def run(fr):
+            for cond, body in pairs:
+                if cond(fr):
+                    return body(fr)
+            if otherwise is not None:
+                return otherwise(fr)
+        return run
+
+    def stmt_While(self, s: A.While):
+        cond, body, ctx = self.expr(s.cond), self.block(s.body), self.ctx
+        filename, span = self._here.filename, s.span
+
+        def run(fr):
+            while cond(fr):
+                ctx.steps += 1
+                if ctx.steps > ctx.limit:
+                    ctx.interrupt(filename, span)
+                if body(fr) is not None:
+                    return RETURN
+        return run
+
+    def stmt_Repeat(self, s: A.Repeat):
+        cond, body, ctx = self.expr(s.cond), self.block(s.body), self.ctx
+        filename, span = self._here.filename, s.span
+
+        def run(fr):
+            while True:
+                ctx.steps += 1
+                if ctx.steps > ctx.limit:
+                    ctx.interrupt(filename, span)
+                if body(fr) is not None:
+                    return RETURN
+                if cond(fr):
+                    return None
+        return run
+
+    def stmt_For(self, s: A.For):
+        start, stop = self.expr(s.start), self.expr(s.stop)
+        step = self.expr(s.step) if s.step is not None else (lambda fr: 1)
+        body, ctx, make = self.block(s.body), self.ctx, self._raiser()
+        store = self.store_symbol(s.symbol)
+        filename, span, down = self._here.filename, s.span, s.down
+
+        def run(fr):
+            a, b, k = start(fr), stop(fr), step(fr)
+            if k <= 0:
+                raise make(f"a FOR step must be positive, not {k}", s.step.span)
+            for i in (range(a, b - 1, -k) if down else range(a, b + 1, k)):
+                store(fr, i)
+                ctx.steps += 1
+                if ctx.steps > ctx.limit:
+                    ctx.interrupt(filename, span)
+                if body(fr) is not None:
+                    return RETURN
+        return run
+
+    def stmt_Return(self, s: A.Return):
+        if s.value is None or self.routine is None:
+            return lambda fr: RETURN
+        value = self.expr_as(s.value, s.result_type)
+        slot = self.routine.frame_size - 1
+
+        def run(fr):
+            fr[slot] = value(fr)
+            return RETURN
+        return run
+
+    def stmt_Try(self, s: A.Try):
+        body, handler, ctx = self.block(s.body), self.block(s.handler), self.ctx
+
+        def run(fr):
+            depth = len(ctx.stack)
+            try:
+                return body(fr)
+            except RclRuntimeError as e:
+                del ctx.stack[depth:]
+                ctx.errmsgs.append(e.message)
+                try:
+                    return handler(fr)
+                finally:
+                    ctx.errmsgs.pop()
+        return run
+
+    def stmt_Raise(self, s: A.Raise):
+        message, make, span = self.expr(s.message), self._raiser(), s.span
+
+        def run(fr):
+            raise make(message(fr), span)
+        return run
+
+    def stmt_Solve(self, s: A.Solve):
+        value, store = self.expr(s.solution), self.store_symbol(s.symbol)
+
+        def run(fr):
+            store(fr, value(fr))
+        return run
+
+    def stmt_Import(self, s: A.Import):
+        if s.module is None:
+            return None
+        key, ran, codes = s.module.key, self.ran, self.module_codes
+
+        def run(fr):
+            if key not in ran:
+                ran.add(key)
+                codes[key]()
+        return run
+
+    # Places (assignment targets) -------------------------------------------
+
+    def store_symbol(self, v: Variable) -> Callable[[list, Any], None]:
+        """A setter for a variable's storage."""
+        i = v.slot
+        if v.is_global:
+            g = self.values
+
+            def store(fr, x):
+                g[i] = x
+        elif v.kind == "ref":
+            def store(fr, x):
+                r = fr[i]
+                r.c[r.i] = x
+        else:
+            def store(fr, x):
+                fr[i] = x
+        if v.type == T.REAL:
+            inner = store
+
+            def store(fr, x):
+                inner(fr, float(x))
+        return store
