@@ -38,7 +38,9 @@ class FrameError(ValueError):
 class Frame:
     """An immutable rigid transform (see the module docstring for conventions)."""
 
-    __slots__ = ("_m",)
+    __slots__ = ("_m", "_inv")
+    _m: np.ndarray
+    _inv: Frame  # the inverse, once asked for (a frame never changes)
 
     def __init__(self, matrix) -> None:
         """Wrap a 4x4 matrix, checking that it is a rigid transform."""
@@ -143,12 +145,18 @@ class Frame:
         return out
 
     def inv(self) -> Frame:
-        """The inverse, in closed form: [R^T, -R^T p]."""
+        """The inverse, in closed form: [R^T, -R^T p]; kept, as a program inverts the same base
+        and tool frames over and over (INV(Z^) * ... * INV(E^) in every cycle)."""
+        try:
+            return self._inv
+        except AttributeError:
+            pass
         m = self._m
         out = m.T.copy()
         out[:3, 3] = -(out[:3, :3] @ m[:3, 3])
         out[3, :3] = 0.0
-        return Frame._trusted(out)
+        self._inv = inverse = Frame._trusted(out)
+        return inverse
 
     # Access -------------------------------------------------------------
 

@@ -1,4 +1,5 @@
-"""Shared helpers: run the `rcl` command as a user would."""
+"""Shared helpers: run the `rcl` command as a user would; hypothesis without its per-example
+deadline (no test is timed: a busy machine must not fail one)."""
 from __future__ import annotations
 
 import subprocess
@@ -6,6 +7,10 @@ import sys
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
+
+settings.register_profile("untimed", deadline=None)
+settings.load_profile("untimed")
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -68,6 +68,27 @@ def test_closed_form_inverse_matches_numpy(x, y, z, a, b, c):
     f = Frame.trans(x, y, z) * Frame.rpy(a, b, c)
     np.testing.assert_allclose(f.inv().matrix, np.linalg.inv(f.matrix), atol=1e-8)
     np.testing.assert_allclose((f * f.inv()).matrix, np.eye(4), atol=1e-9)
+    assert f.inv() is f.inv()  # kept: a frame never changes
+
+
+@pytest.mark.parametrize("n", [2, 3, 4, 5, 7])
+def test_a_chain_of_frame_products_in_rcl_matches_numpy(n):
+    """The interpreter multiplies a chain of frames in one closure (2-4 factors written out, more
+    in a loop), INVs among them: against numpy's own products and inverse."""
+    import io
+
+    from rcl import Session
+
+    rng = np.random.default_rng(n)
+    frames = [Frame.trans(*rng.uniform(-100, 100, 3)) * Frame.rpy(*rng.uniform(-180, 180, 3)) for _ in range(n)]
+    s = Session(out=io.StringIO())
+    for i, f in enumerate(frames):
+        s[f"F{i}^"] = f
+    s.run("P^ := " + " * ".join(f"INV(F{i}^)" if i % 2 else f"F{i}^" for i in range(n)))
+    want = np.eye(4)
+    for i, f in enumerate(frames):
+        want = want @ (np.linalg.inv(f.matrix) if i % 2 else f.matrix)
+    np.testing.assert_allclose(s["P^"].matrix, want, atol=1e-9)
 
 
 @given(coords, coords, coords, angles, angles, coords, coords, coords)

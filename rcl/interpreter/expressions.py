@@ -164,8 +164,10 @@ class Expressions(CompilerBase):
         return run
 
     def expr_BinOp(self, e: A.BinOp):
-        op, a, b = e.op, self.expr(e.left), self.expr(e.right)
         ta, tb = e.left.type, e.right.type
+        if T.is_frame(ta) and T.is_frame(tb):
+            return self._frame_product(e)
+        op, a, b = e.op, self.expr(e.left), self.expr(e.right)
         if op == "AND":
             return lambda fr: a(fr) and b(fr)
         if op == "OR":
@@ -174,9 +176,6 @@ class Expressions(CompilerBase):
             cmp = _COMPARE[op]
             return lambda fr: cmp(a(fr), b(fr))
         if T.is_frame(ta):
-            if T.is_frame(tb):
-                trusted = Frame._trusted
-                return lambda fr: trusted(a(fr)._m @ b(fr)._m)
             return lambda fr: a(fr).apply(b(fr))
         if op in ("/", "DIV", "MOD"):
             return self._division(op, a, b, e)
@@ -189,6 +188,38 @@ class Expressions(CompilerBase):
         if op == "-":
             return lambda fr: a(fr) - b(fr)
         return lambda fr: a(fr) * b(fr)
+
+    def _frame_product(self, e: A.BinOp) -> Callable:
+        """A chain of frame products, A * B * C ..., as one closure over the matrices: no Frame
+        is made for the partial products (the checker proved every factor a FRAME)."""
+        factors: list[A.Expr] = []
+
+        def flatten(x: A.Expr) -> None:
+            if isinstance(x, A.BinOp) and x.op == "*" and T.is_frame(x.left.type) and T.is_frame(x.right.type):
+                flatten(x.left)
+                flatten(x.right)
+            else:
+                factors.append(x)
+        flatten(e)
+        fs = [self.expr(x) for x in factors]
+        trusted = Frame._trusted
+        if len(fs) == 2:
+            a, b = fs
+            return lambda fr: trusted(a(fr)._m @ b(fr)._m)
+        if len(fs) == 3:
+            a, b, c = fs
+            return lambda fr: trusted(a(fr)._m @ b(fr)._m @ c(fr)._m)
+        if len(fs) == 4:
+            a, b, c, d = fs
+            return lambda fr: trusted(a(fr)._m @ b(fr)._m @ c(fr)._m @ d(fr)._m)
+        first, *rest = fs
+
+        def run(fr):
+            m = first(fr)._m
+            for f in rest:
+                m = m @ f(fr)._m
+            return trusted(m)
+        return run
 
     def _integer_arithmetic(self, op: str, a: Callable, b: Callable, span: A.Span) -> Callable:
         """+ - * on INTEGERs, each written out: this is the inner loop of most programs."""
