@@ -208,16 +208,24 @@ class Var(Generic[T]):
         raise NotImplementedError
 
 
-class Number:
-    """Annotation: INTEGER or REAL."""
-
-
 class Printable:
     """Annotation: any RCL value."""
 
 
-class AnyArray:
-    """Annotation: an array of any element type and bounds."""
+if typing.TYPE_CHECKING:  # what a built-in receives, as mypy should see it
+    from .values import Array
+
+    Number = float  # an INTEGER (int) is a float to mypy
+    AnyArray = Array
+    RealArray = Array
+else:  # the same names as RCL signatures (see from_annotation)
+    class Number:
+        """Annotation: INTEGER or REAL."""
+
+    class AnyArray:
+        """Annotation: an array of any element type and bounds."""
+
+    RealArray = list[float]  # an ARRAY OF REAL; the built-in receives a values.Array
 
 
 _SIMPLE = {int: INTEGER, float: REAL, bool: BOOLEAN, str: STRING, np.ndarray: VECTOR,

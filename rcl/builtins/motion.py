@@ -9,7 +9,7 @@ from ..errors import BuiltinError
 from ..frame import Frame, FrameError
 from ..robots import RobotError
 from ..robots.base import checked_speed
-from ..types import Var
+from ..types import RealArray, Var
 from ..values import Array
 
 BaseToT5 = Annotated[Frame, "base -> t5"]
@@ -84,12 +84,12 @@ def delay(ctx: Context, seconds: float) -> None:
     _do(_robot(ctx).delay, seconds)
 
 
-def jmove(ctx: Context, q: list[float]) -> None:
+def jmove(ctx: Context, q: RealArray) -> None:
     """JMOVE(q): move to joint angles (degrees), one array element per axis."""
     _do(_robot(ctx).jmove, list(q.items))
 
 
-def joints(ctx: Context, q: Var[list[float]]) -> None:
+def joints(ctx: Context, q: Var[RealArray]) -> None:
     """JOINTS(VAR q): read the joint angles (degrees) into q, one element per axis."""
     values = _do(_robot(ctx).joints)
     target: Array = q.get()
