@@ -1,5 +1,8 @@
 """The paper's grey-scale vision system: follow wire boundaries, read wire ends off them.
 
+(About 600 lines, over the ~500 we hold modules to: it is kept whole so that it reads top to
+bottom as the paper's seven steps below, each a function or method named for its step.)
+
 1. 2 x 2 averaging (512 x 512 -> 256 x 256, about 2 px/mm: the working image) and
    a further 4 x 4 averaging to a 64 x 64 image for planning.
 2. Prewitt edges (edges()): magnitude and direction at any point of the working image.

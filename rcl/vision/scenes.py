@@ -1,5 +1,10 @@
 """Randomized trays: every look drawn afresh from what real trays vary, with ground truth.
 
+(About 560 lines, over the ~500 we hold modules to: the draw (Scene, draw_scene, random_wire,
+wire_look) and the painting that uses each drawn choice (board, finish, _paint_wire) are
+read together; the painting could move to a module of its own, as the cell's renderer would
+then import it alone.)
+
 random_tray(seed, slice=None) draws a Scene (how the tray looks) and its wires
 from the seed, renders it and computes the same ground truth as synth.make_tray:
 each wire's centre line in mm (end 0 to end 1, conductor tips included) and
