@@ -72,6 +72,8 @@ class Statements(CompilerBase):
         return run
 
     def stmt_While(self, s: A.While):
+        # Each loop counts its turns against the step budget written out (WHILE, REPEAT, FOR):
+        # a call a turn would cost the tightest loops about a sixth of their time.
         cond, body, ctx = self.expr(s.cond), self.block(s.body), self.ctx
         filename, span = self._here.filename, s.span
 
