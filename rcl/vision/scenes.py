@@ -36,6 +36,7 @@ from __future__ import annotations
 import io
 import math
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 
@@ -121,10 +122,10 @@ def draw_scene(rng: np.random.Generator, slice: str | None = None) -> Scene:
     most = float(np.clip(area / 500.0, 3, 25))  # at most a wire per 500 mm2 of tray
     count = round(math.exp(rng.uniform(0.0, math.log(most))))
     layers = int(rng.integers(1, 5))
-    shapes = SHAPES
+    shapes: tuple[str, ...] = SHAPES
     thickness = (0.8, 3.0)
-    insulation = INSULATION
-    end_kinds = ENDS
+    insulation: tuple[str, ...] = INSULATION
+    end_kinds: tuple[str, ...] = ENDS
     board = str(rng.choice(BOARDS, p=(0.3, 0.15, 0.15, 0.15, 0.1, 0.15)))
     board_colour = _board_colour(rng)
     board_contrast = float(rng.uniform(0.02, 0.12))
@@ -426,7 +427,7 @@ def _rim(img: np.ndarray, scene: Scene, rng) -> None:
     level = np.array(_board_colour(rng), np.float32)
     for side in rng.choice(4, size=int(rng.integers(1, 3)), replace=False):
         k = int(rng.uniform(0.03, 0.08) * (h if side < 2 else w))
-        sl = {0: np.s_[:k], 1: np.s_[h - k:], 2: np.s_[:, :k], 3: np.s_[:, w - k:]}[int(side)]
+        sl: Any = {0: np.s_[:k], 1: np.s_[h - k:], 2: np.s_[:, :k], 3: np.s_[:, w - k:]}[int(side)]
         img[sl] = level
         x0, y0, x1, y1 = {0: (0, 0, w, k), 1: (0, h - k, w, h), 2: (0, 0, k, h), 3: (w - k, 0, w, h)}[int(side)]
         ppm = scene.px_per_mm
