@@ -26,7 +26,6 @@ _COMPARE = {"=": operator.eq, "<>": operator.ne, "<": operator.lt, "<=": operato
             ">": operator.gt, ">=": operator.ge}
 
 
-
 class CompilerBase:
     """What every part of the compiler shares: the session's storage and where it is compiling."""
 
