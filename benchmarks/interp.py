@@ -10,6 +10,8 @@ Prints one table:
   - with --large: parse and check apart for 100,000-line programs of four shapes (issue 13, point 8),
     per line and per token, to state the bound docs/language.md gives;
   - `rcl run` start-up for a one-line script (a fresh process, median of several).
+The loops' times are medians of runs interleaved with their references, and each ratio the median
+of the ratios within a round (see `paired`).
 """
 from __future__ import annotations
 
@@ -47,13 +49,37 @@ def best(f, repeat=3) -> float:
     return min(times)
 
 
-def rcl_time(setup: str, loop: str) -> float:
+def timed(f) -> float:
+    t = time.perf_counter()
+    f()
+    return time.perf_counter() - t
+
+
+def paired(subject, references: dict, pairs: int = 7) -> tuple[float, dict]:
+    """(median seconds of subject(), {name: (median seconds, median ratio subject / reference)}).
+
+    The runs are interleaved, subject then each reference, and each ratio is taken within one
+    round: a shared machine's speed drifts by half from one second to the next, which the best of
+    separate runs would put into the ratio."""
+    ts: list[float] = []
+    rs: dict = {k: ([], []) for k in references}
+    for _ in range(pairs):
+        t = timed(subject)
+        ts.append(t)
+        for k, f in references.items():
+            r = timed(f)
+            rs[k][0].append(r)
+            rs[k][1].append(t / r)
+    return statistics.median(ts), {k: (statistics.median(a), statistics.median(b)) for k, (a, b) in rs.items()}
+
+
+def rcl_loop(setup: str, loop: str):
     s = Session(out=io.StringIO())
     s.run(setup)
-    return best(lambda: s.run(loop))
+    return lambda: s.run(loop)
 
 
-def frames_numpy(closed_form: bool, hoisted: bool = False) -> float:
+def frames_numpy(closed_form: bool, hoisted: bool = False):
     def rz(d):
         t = np.radians(d)
         m = np.eye(4)
@@ -83,16 +109,13 @@ def frames_numpy(closed_form: bool, hoisted: bool = False) -> float:
         iz, ie = rigid_inv(Z), rigid_inv(E)
         for _ in range(N_FRAMES):
             iz @ W @ WG @ ie
-    return best(loop_hoisted if hoisted else loop)
+    return loop_hoisted if hoisted else loop
 
 
-def scalar_python() -> float:
-    def loop():
-        s = 0
-        for i in range(1, N_SCALAR + 1):
-            s = s + i
-        return s
-    return best(loop)
+def scalar_python() -> None:
+    s = 0
+    for i in range(1, N_SCALAR + 1):
+        s = s + i
 
 
 def program(lines: int) -> str:
@@ -192,17 +215,16 @@ def main() -> None:
     print(describe())
     rows = []
     loop = f"FOR i := 1 TO {N_FRAMES} DO\n  T5^ := INV(Z^)*W^*WG^*INV(E^)\nEND\n"
-    t_rcl = rcl_time(SETUP, loop)
-    t_inv = frames_numpy(closed_form=False)
-    t_closed = frames_numpy(closed_form=True)
-    t_hoisted = frames_numpy(closed_form=True, hoisted=True)
+    t_rcl, ref = paired(rcl_loop(SETUP, loop), {
+        "numpy.linalg.inv": frames_numpy(closed_form=False), "closed-form numpy": frames_numpy(closed_form=True),
+        "inverses hoisted": frames_numpy(closed_form=True, hoisted=True)}, pairs=5)
     rows.append((f"{N_FRAMES:,} x T5^ := INV(Z^)*W^*WG^*INV(E^)", t_rcl,
-                 f"numpy.linalg.inv {t_inv:.3f} s ({t_rcl / t_inv:.2f}x); closed-form numpy {t_closed:.3f} s "
-                 f"({t_rcl / t_closed:.2f}x); inverses hoisted {t_hoisted:.3f} s ({t_rcl / t_hoisted:.2f}x)",
-                 "<= 0.8x linalg.inv"))
-    t_rcl = rcl_time("s := 0\n", f"s := 0\nFOR i := 1 TO {N_SCALAR} DO s := s + i END\n")
-    t_py = scalar_python()
-    rows.append((f"{N_SCALAR:,}-step scalar loop s := s + i", t_rcl, f"Python {t_py:.3f} s ({t_rcl / t_py:.1f}x)", "-"))
+                 "; ".join(f"{k} {t:.3f} s ({r:.2f}x)" for k, (t, r) in ref.items()), "<= 0.8x linalg.inv"))
+    t_rcl, ref = paired(rcl_loop("s := 0\n", f"s := 0\nFOR i := 1 TO {N_SCALAR} DO s := s + i END\n"),
+                        {"Python": scalar_python}, pairs=9)
+    t_py, ratio = ref["Python"]
+    rows.append((f"{N_SCALAR:,}-step scalar loop s := s + i", t_rcl, f"Python {t_py:.3f} s ({ratio:.1f}x)",
+                 "<= 5x Python"))
     source = program(2000)
     n_lines = source.count("\n")
     rows.append((f"parse + check, {n_lines:,}-line program", parse_check(source), "", "< 0.5 s"))

@@ -146,14 +146,16 @@ def test_a_recursions_call_stack_is_folded():
     ]
 
 
-def test_cancel_from_another_thread_stops_a_loop_and_halts():
+@pytest.mark.parametrize("loop", ["WHILE TRUE DO x := 1 END",
+                                  "x := 0\nFOR i := 1 TO 1000000000000 DO x := x + 1 END"])  # a tight loop
+def test_cancel_from_another_thread_stops_a_loop_and_halts(loop):
     robot = RecordingArm()
     s = Session(robot=robot, out=io.StringIO())
     timer = threading.Timer(0.2, s.cancel)
     timer.start()
     t0 = time.monotonic()
     with pytest.raises(RclCancelled):
-        s.run("WHILE TRUE DO x := 1 END")
+        s.run(loop)
     assert time.monotonic() - t0 < 5
     assert robot.halted
     s.run("x := 2")  # the session is usable afterwards
@@ -166,6 +168,20 @@ def test_step_budget_stops_runaway_programs_but_not_catchable():
         s.run("TRY\n  WHILE TRUE DO END\nEXCEPT\n  WRITELN('caught')\nEND")
     assert "step budget of 1000" in str(e.value)
     s.run("FOR i := 1 TO 500 DO END")  # the budget is per run
+
+
+@pytest.mark.parametrize("body", ["", "s := s + i", "s := s + i\n  s := s - 1", "x := x + i"])
+def test_step_budget_counts_every_turn_of_a_tight_loop_exactly(body):
+    setup = "s := 0\nx := 0.0\n"
+    loop = f"FOR i := 1 TO {{n}} DO\n  {body}\nEND\n"
+    Session(out=io.StringIO(), step_budget=1000).run(setup + loop.format(n=600) + loop.format(n=400))
+    with pytest.raises(RclCancelled, match="step budget of 1000"):
+        Session(out=io.StringIO(), step_budget=1000).run(setup + loop.format(n=600) + loop.format(n=401))
+    # the turns run before a runtime error that TRY caught still count
+    caught = f"TRY\n  FOR i := 1 TO 600 DO\n    {body}\n    s := 10 DIV (i - 600)\n  END\nEXCEPT\nEND\n"
+    Session(out=io.StringIO(), step_budget=1000).run(setup + caught + loop.format(n=400))
+    with pytest.raises(RclCancelled, match="step budget of 1000"):
+        Session(out=io.StringIO(), step_budget=1000).run(setup + caught + loop.format(n=401))
 
 
 def test_routines_persist_and_can_be_redefined_with_the_same_signature():

@@ -30,15 +30,13 @@ class Compiler(Statements, Expressions, Calls):
 
     def module_code(self, m: A.Module) -> Callable[[], None]:
         self.module, self.routine = m, None
-        body = self.block(m.body)
-        top: list = []
+        body, top = self.block(m.body), self.values  # top-level code's activation is the globals
         return lambda: body(top)
 
     def expression_code(self, e: A.Expr, m: A.Module) -> Callable[[], Any]:
         """A checked top-level expression (the REPL's), ready to evaluate."""
         self.module, self.routine = m, None
-        f = self.expr(e)
-        top: list = []
+        f, top = self.expr(e), self.values
         return lambda: f(top)
 
     def routine_code(self, r: Routine, m: A.Module) -> None:

@@ -22,6 +22,7 @@ USER_FACING = (BuiltinError, FrameError, ArithmeticError)
 
 _FIELD_COLUMN = {"n": 0, "o": 1, "a": 2, "p": 3}
 _VECTOR_AXIS = {"x": 0, "y": 1, "z": 2}
+_ARITHMETIC = {"+": operator.add, "-": operator.sub, "*": operator.mul}
 _COMPARE = {"=": operator.eq, "<>": operator.ne, "<": operator.lt, "<=": operator.le,
             ">": operator.gt, ">=": operator.ge}
 
@@ -43,6 +44,11 @@ class CompilerBase:
         """The module being compiled."""
         assert self.module is not None, "compiling outside a module"
         return self.module
+
+    def _in_frame(self, v: Variable) -> bool:
+        """Whether v is read and written straight in the activation list `fr`: a routine's own
+        variable, or a global in top-level code (which runs with the globals as its activation)."""
+        return v.kind != "ref" and (not v.is_global or self.routine is None)
 
     # Errors ----------------------------------------------------------------
 

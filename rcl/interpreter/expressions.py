@@ -9,7 +9,7 @@ from .. import types as T
 from ..frame import Frame
 from ..scope import Variable
 from ..types import INT_MAX, INT_MIN  # bound here: read on every INTEGER operation
-from .base import _COMPARE, _FIELD_COLUMN, _VECTOR_AXIS, MAX_STRING, CompilerBase
+from .base import _ARITHMETIC, _COMPARE, _FIELD_COLUMN, _VECTOR_AXIS, MAX_STRING, CompilerBase
 
 
 class Expressions(CompilerBase):
@@ -87,11 +87,9 @@ class Expressions(CompilerBase):
 
         def unset():
             return make(f"{name} has no value yet", span)
-        if v.is_global:
-            g = self.values
-
+        if self._in_frame(v):
             def get(fr):
-                x = g[i]
+                x = fr[i]
                 if x is None:
                     raise unset()
                 return x
@@ -103,8 +101,10 @@ class Expressions(CompilerBase):
                     raise unset()
                 return x
         else:
+            g = self.values
+
             def get(fr):
-                x = fr[i]
+                x = g[i]
                 if x is None:
                     raise unset()
                 return x
@@ -180,7 +180,7 @@ class Expressions(CompilerBase):
         if op in ("/", "DIV", "MOD"):
             return self._division(op, a, b, e)
         if e.type == T.INTEGER:
-            return self._integer_arithmetic(op, a, b, e.op_span)
+            return self._integer_arithmetic(e, a, b)
         if e.type == T.STRING:
             return self._concatenation(a, b, e.op_span)
         if op == "+":
@@ -221,12 +221,38 @@ class Expressions(CompilerBase):
             return trusted(m)
         return run
 
-    def _integer_arithmetic(self, op: str, a: Callable, b: Callable, span: A.Span) -> Callable:
-        """+ - * on INTEGERs, each written out: this is the inner loop of most programs."""
-        make = self._raiser()
+    def _integer_arithmetic(self, e: A.BinOp, a: Callable, b: Callable) -> Callable:
+        """+ - * on INTEGERs, each written out: this is the inner loop of most programs. A left
+        operand that is a variable in the activation, and a right one that is too or is a literal,
+        are read in place; an unset one is left to its own reader to report."""
+        make, op = self._raiser(), e.op
 
         def overflow():
-            return make("INTEGER overflow (beyond 64 bits)", span)
+            return make("INTEGER overflow (beyond 64 bits)", e.op_span)
+        i, j = self._frame_slot(e.left), self._frame_slot(e.right)
+        if i is not None and (j is not None or isinstance(e.right, A.Integer)):
+            fn = _ARITHMETIC[op]
+            if j is not None:
+                def both(fr):
+                    x, y = fr[i], fr[j]
+                    if x is None or y is None:
+                        a(fr), b(fr)
+                    z = fn(x, y)
+                    if INT_MIN <= z <= INT_MAX:
+                        return z
+                    raise overflow()
+                return both
+            k = int(e.right.text)  # type: ignore[attr-defined]
+
+            def literal(fr):
+                x = fr[i]
+                if x is None:
+                    a(fr)
+                z = fn(x, k)
+                if INT_MIN <= z <= INT_MAX:
+                    return z
+                raise overflow()
+            return literal
         if op == "+":
             def run(fr):
                 x = a(fr) + b(fr)
@@ -246,6 +272,13 @@ class Expressions(CompilerBase):
                     return x
                 raise overflow()
         return run
+
+    def _frame_slot(self, e: A.Expr) -> int | None:
+        """The slot of a variable read straight from the activation, else None."""
+        if isinstance(e, A.Name) and isinstance(e.symbol, Variable) and e.symbol.kind != "const" \
+                and self._in_frame(e.symbol):
+            return e.symbol.slot
+        return None
 
     def _concatenation(self, a: Callable, b: Callable, span: A.Span) -> Callable:
         """STRING + STRING, at most MAX_STRING characters (a doubling loop ends in an error, not in

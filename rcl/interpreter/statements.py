@@ -2,13 +2,29 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from dataclasses import fields
 from typing import Any
 
 from .. import ast as A
 from .. import types as T
 from ..errors import RclRuntimeError
-from ..scope import Variable
+from ..scope import Routine, Variable
 from .base import RETURN, CompilerBase
+
+
+def _counts_steps(root: A.Node) -> bool:
+    """Whether running root may count steps of the budget itself: it holds a loop, a call of a
+    routine written in RCL, or an IMPORT (whose module runs)."""
+    todo: list[Any] = [root]
+    while todo:
+        n = todo.pop()
+        if isinstance(n, (list, tuple)):
+            todo.extend(n)
+        elif isinstance(n, A.Node):
+            if isinstance(n, (A.While, A.Repeat, A.For, A.Import)) or isinstance(getattr(n, "symbol", None), Routine):
+                return True
+            todo.extend(getattr(n, f.name) for f in fields(n))
+    return False
 
 
 class Statements(CompilerBase):
@@ -35,6 +51,17 @@ class Statements(CompilerBase):
     stmt_ConstDecl = stmt_RoutineDecl = stmt_VarDecl
 
     def stmt_Assign(self, s: A.Assign):
+        here = self._assignment_here(s)
+        if here is not None:  # the commonest statement, without a call to a setter
+            i, value, real = here
+            if real:
+                def run_real(fr):
+                    fr[i] = float(value(fr))
+                return run_real
+
+            def run_here(fr):
+                fr[i] = value(fr)
+            return run_here
         value = self.expr_as(s.value, s.target.type)
         if isinstance(s.target.type, T.ArrayType):
             inner = value
@@ -44,6 +71,16 @@ class Statements(CompilerBase):
         def run(fr):
             store(fr, value(fr))
         return run
+
+    def _assignment_here(self, s: A.Stmt) -> tuple[int, Callable, bool] | None:
+        """(slot, value, whether REAL) of an assignment of one value to a variable in the
+        activation, else None. A REAL variable holds a Python float whatever made the value."""
+        if not isinstance(s, A.Assign):
+            return None
+        t = s.target
+        if not isinstance(t, A.Name) or isinstance(t.type, T.ArrayType) or not self._in_frame(t.symbol):
+            return None
+        return t.symbol.slot, self.expr_as(s.value, t.type), t.type == T.REAL
 
     def stmt_CallStmt(self, s: A.CallStmt):
         c = s.call
@@ -105,14 +142,55 @@ class Statements(CompilerBase):
         start, stop = self.expr(s.start), self.expr(s.stop)
         step = self.expr(s.step) if s.step is not None else (lambda fr: 1)
         body, ctx, make = self.block(s.body), self.ctx, self._raiser()
-        store = self.store_symbol(s.symbol)
         filename, span, down = self._here.filename, s.span, s.down
 
-        def run(fr):
+        def turns(fr):
             a, b, k = start(fr), stop(fr), step(fr)
             if k <= 0:
                 raise make(f"a FOR step must be positive, not {k}", s.step.span)
-            for i in (range(a, b - 1, -k) if down else range(a, b + 1, k)):
+            return range(a, b - 1, -k) if down else range(a, b + 1, k)
+
+        if self._in_frame(s.symbol) and not _counts_steps(s.body):
+            # The tightest loops: the counter stored without a call to a setter, and the steps
+            # counted in a local (the body counts none itself), written back however the loop ends.
+            slot = s.symbol.slot
+            here = self._assignment_here(s.body.body[0]) if len(s.body.body) == 1 else None
+            if here is not None and not here[2]:
+                # and a body of one assignment run in place (a sum, a table): one call a turn
+                target, value = here[:2]
+
+                def run_assign(fr):
+                    steps = ctx.steps
+                    try:
+                        for i in turns(fr):
+                            fr[slot] = i
+                            steps += 1
+                            if steps > ctx.limit:
+                                ctx.steps = steps
+                                ctx.interrupt(filename, span)
+                            fr[target] = value(fr)
+                    finally:
+                        ctx.steps = steps
+                return run_assign
+
+            def run_tight(fr):
+                steps = ctx.steps
+                try:
+                    for i in turns(fr):
+                        fr[slot] = i
+                        steps += 1
+                        if steps > ctx.limit:
+                            ctx.steps = steps
+                            ctx.interrupt(filename, span)
+                        if body(fr) is not None:
+                            return RETURN
+                finally:
+                    ctx.steps = steps
+            return run_tight
+        store = self.store_symbol(s.symbol)
+
+        def run(fr):
+            for i in turns(fr):
                 store(fr, i)
                 ctx.steps += 1
                 if ctx.steps > ctx.limit:
@@ -178,18 +256,18 @@ class Statements(CompilerBase):
     def store_symbol(self, v: Variable) -> Callable[[list, Any], None]:
         """A setter for a variable's storage."""
         i = v.slot
-        if v.is_global:
-            g = self.values
-
+        if self._in_frame(v):
             def store(fr, x):
-                g[i] = x
+                fr[i] = x
         elif v.kind == "ref":
             def store(fr, x):
                 r = fr[i]
                 r.c[r.i] = x
         else:
+            g = self.values
+
             def store(fr, x):
-                fr[i] = x
+                g[i] = x
         if v.type == T.REAL:
             inner = store
 
