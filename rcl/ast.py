@@ -5,7 +5,8 @@ checker" (types, resolved symbols) that the interpreter then relies on.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Iterator
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 
@@ -263,3 +264,27 @@ class Module:
     body: Block
     imports: list[Import] = field(default_factory=list)
     key: str = ""  # the resolved path: one module per file and session
+
+
+def children(node: Node) -> Iterator[Node]:
+    """The nodes directly below node, those the checker has set included (a SOLVE's solution)."""
+    for name in _node_fields(type(node)):
+        value = getattr(node, name)
+        if isinstance(value, Node):
+            yield value
+        elif isinstance(value, (list, tuple)):
+            for item in value:
+                if isinstance(item, Node):
+                    yield item
+                elif isinstance(item, (list, tuple)):  # an IF's branches: (condition, block) pairs
+                    yield from (x for x in item if isinstance(x, Node))
+
+
+_FIELDS: dict[type, tuple[str, ...]] = {}  # each node class's fields but its span
+
+
+def _node_fields(cls: type) -> tuple[str, ...]:
+    names = _FIELDS.get(cls)
+    if names is None:
+        names = _FIELDS[cls] = tuple(f.name for f in fields(cls) if f.name != "span")
+    return names

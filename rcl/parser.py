@@ -8,8 +8,9 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterator
-from functools import cache, lru_cache
+from functools import lru_cache
 from pathlib import Path
+from typing import cast
 
 import lark
 from lark import Token, Transformer
@@ -24,7 +25,7 @@ from .resources import grammar_path
 def parse(source: str, filename: str = "<string>") -> A.Module:
     """Parse one source file; raise RclStaticError on a syntax error."""
     try:
-        block = _parser().parse(source, start="start")
+        block = cast(A.Block, _parser().parse(source, start="start"))  # the Transformer makes the AST
     except UnexpectedInput as e:
         raise RclStaticError([_syntax_diagnostic(e, source, filename)]) from None
     _not_too_deep(block, source, filename)
@@ -36,7 +37,7 @@ def parse(source: str, filename: str = "<string>") -> A.Module:
 def parse_expression(source: str, filename: str = "<expression>") -> A.Expr:
     """Parse one expression (the REPL's bare expressions); raise RclStaticError on a syntax error."""
     try:
-        expr = _parser().parse(source, start="expr")
+        expr = cast(A.Expr, _parser().parse(source, start="expr"))
     except UnexpectedInput as e:
         raise RclStaticError([_syntax_diagnostic(e, source, filename)]) from None
     _not_too_deep(expr, source, filename)
@@ -56,27 +57,7 @@ def _not_too_deep(root: A.Node, source: str, filename: str) -> None:
             message = (f"the program nests too deeply: more than {MAX_NESTING} levels of blocks and "
                        f"expressions within one another")
             raise RclStaticError([Diagnostic(filename, node.span, message, source_line(source, node.span.line))])
-        pending.extend((child, depth + 1) for child in _children(node))
-
-
-def _children(node) -> Iterator[A.Node]:
-    for name in _node_fields(type(node)):
-        value = getattr(node, name)
-        if isinstance(value, A.Node):
-            yield value
-        elif isinstance(value, (list, tuple)):
-            for item in value:
-                if isinstance(item, A.Node):
-                    yield item
-                elif isinstance(item, (list, tuple)):  # an IF's branches: (condition, block) pairs
-                    yield from (x for x in item if isinstance(x, A.Node))
-
-
-@cache
-def _node_fields(cls) -> tuple[str, ...]:
-    import dataclasses
-
-    return tuple(f.name for f in dataclasses.fields(cls) if f.name != "span")
+        pending.extend((child, depth + 1) for child in A.children(node))
 
 
 def needs_more_input(source: str) -> bool:
@@ -130,7 +111,7 @@ class _BareReturn:
         held = None
         for tok in stream:
             if held is not None:
-                if held.type == "RETURN" and tok.line > held.line:
+                if held.type == "RETURN" and _line(tok) > _line(held):
                     held = Token.new_borrow_pos("RETURN_BARE", held.value, held)
                 yield held
             held = tok
@@ -143,7 +124,12 @@ class _BareReturn:
 # Spans -------------------------------------------------------------------
 
 def _tok_span(t: Token) -> A.Span:
-    return A.Span(t.line, t.column, t.end_line, max(t.column, t.end_column - 1))
+    line, col, end_line, end_col = cast(tuple[int, int, int, int], (t.line, t.column, t.end_line, t.end_column))
+    return A.Span(line, col, end_line, max(col, end_col - 1))
+
+
+def _line(t: Token) -> int:
+    return cast(int, t.line)  # our lexer keeps positions: a Token's are never None
 
 
 def _span_of(x) -> A.Span:
@@ -370,7 +356,7 @@ def _unclosed(source: str, at: Token) -> Token | None:
     stack: list[Token] = []
     try:
         for tok in _parser().lex(source):
-            if tok.start_pos >= at.start_pos:
+            if cast(int, tok.start_pos) >= cast(int, at.start_pos):
                 break
             if tok.type in ("LPAR", "LSQB"):
                 stack.append(tok)

@@ -213,20 +213,20 @@ class SimCell:
         self.attempts += 1
         touches = self.tray.nearest(p)  # every wire, nearest first
         nearest = touches[0] if touches and touches[0].distance <= 6.0 else None
-        why = self._grasp(t, p, height, touches)
-        self.last_taken = None if why else self.held.wire
-        if why:
-            event = self._event("pick", False, nearest.wire if nearest else None, why)
+        taken = self._grasp(t, p, height, touches)
+        if isinstance(taken, str):  # why not
+            self.last_taken = None
+            event = self._event("pick", False, nearest.wire if nearest else None, taken)
             if height <= self.g["height_mm"]:
                 self.tray.nudge(p, 4.0, 2.0, 6.0)
             event.off_mm = nearest.distance if nearest else None
         else:
-            taken = self.held.wire
-            self._event("pick", True, taken).off_mm = next(k.distance for k in touches if k.wire == taken)
+            self.held, self.last_taken = taken, taken.wire
+            self._event("pick", True, taken.wire).off_mm = next(k.distance for k in touches if k.wire == taken.wire)
 
-    def _grasp(self, t: np.ndarray, p: np.ndarray, height: float, touches: list) -> str:
-        """Close the fingers at the real tool pose t (p: its tray point): "" and self.held set
-        when a wire is taken, else why not."""
+    def _grasp(self, t: np.ndarray, p: np.ndarray, height: float, touches: list) -> Held | str:
+        """Close the fingers at the real tool pose t (p: its tray point): the wire taken (off the
+        tray now), else why not."""
         g = self.g
         if t[2, 2] > -math.cos(math.radians(30)):
             return "the fingers did not point down into the tray"
@@ -258,12 +258,13 @@ class SimCell:
         pts = resample(wire.centre, 0.25) + shift
         world = np.vstack([pts[:, 0] + self.tray.origin[0], pts[:, 1] + self.tray.origin[1],
                            np.full(len(pts), self.tray_z + wire.width / 2), np.ones(len(pts))])
-        self.held = Held(touch.wire, wire, np.linalg.inv(t) @ world)
-        return ""
+        return Held(touch.wire, wire, np.linalg.inv(t) @ world)
 
     def held_points(self, h: Held | None = None) -> np.ndarray:
         """The held wire's centre line in the world, (N, 3)."""
-        return (self.tool() @ (h or self.held).shape)[:3].T
+        h = h or self.held
+        assert h is not None, "no wire is held"
+        return (self.tool() @ h.shape)[:3].T
 
     def moved(self) -> None:
         self.jitter = self.rng.normal(0.0, self.scatter, 3) if self.scatter > 0 else np.zeros(3)
@@ -278,6 +279,7 @@ class SimCell:
         """The held wire falls: onto the tray if it is over it, else out of the cell. meant: it
         was let go there on purpose (laid back to be taken afresh), which is no failure."""
         h = self.held
+        assert h is not None, "no wire is held to fall"
         self.held = None
         pts = self.tray.to_tray(self.held_points(h))
         if self.tray.inside(pts.mean(axis=0)):

@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import fields
 from typing import Any
 
 from .. import ast as A
@@ -15,15 +14,12 @@ from .base import RETURN, CompilerBase
 def _counts_steps(root: A.Node) -> bool:
     """Whether running root may count steps of the budget itself: it holds a loop, a call of a
     routine written in RCL, or an IMPORT (whose module runs)."""
-    todo: list[Any] = [root]
+    todo = [root]
     while todo:
         n = todo.pop()
-        if isinstance(n, (list, tuple)):
-            todo.extend(n)
-        elif isinstance(n, A.Node):
-            if isinstance(n, (A.While, A.Repeat, A.For, A.Import)) or isinstance(getattr(n, "symbol", None), Routine):
-                return True
-            todo.extend(getattr(n, f.name) for f in fields(n))
+        if isinstance(n, (A.While, A.Repeat, A.For, A.Import)) or isinstance(getattr(n, "symbol", None), Routine):
+            return True
+        todo.extend(A.children(n))
     return False
 
 

@@ -88,7 +88,7 @@ class GreyResult:
         self.threshold = 0.0
         self.scale = 1  # input pixels per working pixel
         self.region_order: list[tuple[int, int]] = []  # planning regions (row, col) in visiting order
-        self.looks = None  # the end reader (its .rejected says which test refused each end)
+        self.looks: _Looks | None = None  # the end reader (its .rejected says which test refused each end)
 
 
 def edges(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -215,16 +215,16 @@ class _Tracer:
         pad = lambda a: np.pad(a, PAD).ravel()
         self.mag_np = np.pad(mag, PAD)
         # memoryviews: indexing one gives a Python float, as fast as a list and nothing to convert
-        self.mag = memoryview(self.mag_np.astype(np.float64).ravel())
+        self.mag = self.mag_np.astype(np.float64).ravel().data
         n = np.maximum(mag, 1e-12)
         # the boundary's direction: the gradient (dark -> bright) turned 90 degrees,
         # so that the darker side is always on the same hand
-        self.tc = memoryview(pad(-gr / n).astype(np.float64))
-        self.tr = memoryview(pad(gc / n).astype(np.float64))
+        self.tc = pad(-gr / n).astype(np.float64).data
+        self.tr = pad(gc / n).astype(np.float64).data
         self.t = threshold
         self.low = 0.6 * threshold  # a boundary, once found, is followed down to this
         self._owner = np.zeros((h + 2 * PAD) * self.W, np.int32)
-        self.owner = memoryview(self._owner)
+        self.owner = self._owner.data
         self.offs = [dr * self.W + dc for dr, dc in STEPS]
         self.unit = [(dr / math.hypot(dr, dc), dc / math.hypot(dr, dc)) for dr, dc in STEPS]
         self.count = 0
@@ -252,7 +252,7 @@ class _Tracer:
         d0 = self._direction(p0, 1)
         self.owner[p0] = me
         ahead, closed = self._run(p0, d0, 1, me)
-        back = []
+        back: list[int] = []
         if not closed:
             back, _ = self._run(p0, (d0 + 4) % 8, -1, me)
         # the backward run walked the boundary in reverse: flip it to run forwards
@@ -368,7 +368,8 @@ class _Looks:
         self.shine = max(5 * noise, 0.04)
         self.rejected: list[str] = []  # which test turned each candidate end down (for tuning)
 
-    def _no(self, test: str) -> None:
+    def _no(self, test: str) -> Sighting | None:
+        """Note which test refused an end; None, so that a test reads `return self._no(...)`."""
         self.rejected.append(test)
         return None
 
