@@ -236,6 +236,11 @@ SWAPPED = "the first argument's frame references, swapped"
 """Annotated[Frame, SWAPPED] as a built-in's result: INV of a [a -> b] frame is a [b -> a] frame."""
 
 
+def swaps_refs(annotation) -> bool:
+    """Whether a built-in's result annotation is Annotated[Frame, SWAPPED]."""
+    return typing.get_origin(annotation) is Annotated and typing.get_args(annotation)[1:2] == (SWAPPED,)
+
+
 def from_annotation(annotation) -> tuple[Type, bool]:
     """(type, by_ref) for a Python annotation of a built-in's parameter or result."""
     origin = typing.get_origin(annotation)
@@ -245,7 +250,7 @@ def from_annotation(annotation) -> tuple[Type, bool]:
     if origin is Annotated:
         base, *meta = typing.get_args(annotation)
         if base is Frame and meta:
-            return (FRAME if meta[0] is SWAPPED else parse_refs(meta[0])), False
+            return (FRAME if swaps_refs(annotation) else parse_refs(meta[0])), False
         return from_annotation(base)
     if origin is list:
         (inner,) = typing.get_args(annotation)

@@ -14,7 +14,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
 
-from ..types import INTEGER, NUMBER, REAL, SWAPPED, ParamInfo, Type, from_annotation, inverse, is_frame
+from ..types import INTEGER, NUMBER, REAL, ParamInfo, Type, from_annotation, inverse, is_frame, swaps_refs
 
 
 @dataclass(eq=False)
@@ -52,7 +52,7 @@ class Builtin:
                 raise TypeError(f"built-in {name}: parameter {p.name} must be positional")
         ret = hints.get("return", type(None))
         result = None if ret is type(None) else from_annotation(ret)[0]
-        swaps = typing.get_origin(ret) is typing.Annotated and SWAPPED in typing.get_args(ret)[1:]
+        swaps = swaps_refs(ret)
         doc = inspect.getdoc(func) or ""
         return cls(name.upper(), func, tuple(params), result, variadic, wants_ctx, doc, swaps)
 

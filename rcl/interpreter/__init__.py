@@ -29,18 +29,18 @@ class Compiler(Statements, Expressions, Calls):
     """Turns checked modules and routines into closures over one session's storage."""
 
     def module_code(self, m: A.Module) -> Callable[[], None]:
-        self.module, self.routine = m, None
+        self._module, self.routine = m, None
         body, top = self.block(m.body), self.values  # top-level code's activation is the globals
         return lambda: body(top)
 
     def expression_code(self, e: A.Expr, m: A.Module) -> Callable[[], Any]:
         """A checked top-level expression (the REPL's), ready to evaluate."""
-        self.module, self.routine = m, None
+        self._module, self.routine = m, None
         f, top = self.expr(e), self.values
         return lambda: f(top)
 
     def routine_code(self, r: Routine, m: A.Module) -> None:
-        self.module, self.routine = m, r
+        self._module, self.routine = m, r
         body = self.block(r.decl.body)
         template: list = [None] * r.frame_size
         fresh = []

@@ -36,14 +36,14 @@ class CompilerBase:
         self.ctx = ctx
         self.ran = ran  # keys of the modules already executed in this session
         self.module_codes: dict[str, Callable[[], None]] = {}  # compiled imported modules, by key
-        self.module: A.Module | None = None
+        self._module: A.Module | None = None
         self.routine: Routine | None = None
 
     @property
-    def _here(self) -> A.Module:
-        """The module being compiled."""
-        assert self.module is not None, "compiling outside a module"
-        return self.module
+    def module(self) -> A.Module:
+        """The module being compiled (set by each entry point of Compiler)."""
+        assert self._module is not None, "compiling outside a module"
+        return self._module
 
     def _in_frame(self, v: Variable) -> bool:
         """Whether v is read and written straight in the activation list `fr`: a routine's own
@@ -54,7 +54,7 @@ class CompilerBase:
 
     def _raiser(self) -> Callable[[str, A.Span], RclRuntimeError]:
         """A function making runtime errors located in the module being compiled."""
-        filename, source, stack = self._here.filename, self._here.source, self.ctx.stack
+        filename, source, stack = self.module.filename, self.module.source, self.ctx.stack
 
         def make(message: str, span: A.Span) -> RclRuntimeError:
             return RclRuntimeError(message, filename, span, source, tuple(stack))

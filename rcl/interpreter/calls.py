@@ -86,8 +86,8 @@ class Calls(CompilerBase):
     def _routine_call(self, r: Routine, args: list[A.Expr], span: A.Span) -> Callable:
         fs = tuple(self._argument(a, p.type, p.by_ref) for a, p in zip(args, r.params))
         ctx, stack, make = self.ctx, self.ctx.stack, self._raiser()
-        entry = StackEntry(r.name, self._here.filename, span)
-        filename = self._here.filename
+        entry = StackEntry(r.name, self.module.filename, span)
+        filename = self.module.filename
         is_function, name = r.is_function, r.name
 
         def call(fr):

@@ -108,7 +108,7 @@ class Statements(CompilerBase):
         # Each loop counts its turns against the step budget written out (WHILE, REPEAT, FOR):
         # a call a turn would cost the tightest loops about a sixth of their time.
         cond, body, ctx = self.expr(s.cond), self.block(s.body), self.ctx
-        filename, span = self._here.filename, s.span
+        filename, span = self.module.filename, s.span
 
         def run(fr):
             while cond(fr):
@@ -121,7 +121,7 @@ class Statements(CompilerBase):
 
     def stmt_Repeat(self, s: A.Repeat):
         cond, body, ctx = self.expr(s.cond), self.block(s.body), self.ctx
-        filename, span = self._here.filename, s.span
+        filename, span = self.module.filename, s.span
 
         def run(fr):
             while True:
@@ -138,7 +138,7 @@ class Statements(CompilerBase):
         start, stop = self.expr(s.start), self.expr(s.stop)
         step = self.expr(s.step) if s.step is not None else (lambda fr: 1)
         body, ctx, make = self.block(s.body), self.ctx, self._raiser()
-        filename, span, down = self._here.filename, s.span, s.down
+        filename, span, down = self.module.filename, s.span, s.down
 
         def turns(fr):
             a, b, k = start(fr), stop(fr), step(fr)
