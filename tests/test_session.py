@@ -170,7 +170,8 @@ def test_step_budget_stops_runaway_programs_but_not_catchable():
     s.run("FOR i := 1 TO 500 DO END")  # the budget is per run
 
 
-@pytest.mark.parametrize("body", ["", "s := s + i", "s := s + i\n  s := s - 1", "x := x + i"])
+@pytest.mark.parametrize("body", ["", "s := s + i", "s := s + i\n  s := s - 1", "x := x + i",
+                                  "s := s + ROUND(0.4)"])  # a call: the limit read every turn
 def test_step_budget_counts_every_turn_of_a_tight_loop_exactly(body):
     setup = "s := 0\nx := 0.0\n"
     loop = f"FOR i := 1 TO {{n}} DO\n  {body}\nEND\n"
@@ -182,6 +183,22 @@ def test_step_budget_counts_every_turn_of_a_tight_loop_exactly(body):
     Session(out=io.StringIO(), step_budget=1000).run(setup + caught + loop.format(n=400))
     with pytest.raises(RclCancelled, match="step budget of 1000"):
         Session(out=io.StringIO(), step_budget=1000).run(setup + caught + loop.format(n=401))
+
+
+def test_cancel_stops_a_loop_calling_a_slow_builtin_at_its_next_turn():
+    s = Session(out=io.StringIO())
+
+    def nap(seconds: float) -> float:
+        time.sleep(seconds)
+        return seconds
+    s.register(nap)
+    timer = threading.Timer(0.2, s.cancel)
+    timer.start()
+    t0 = time.monotonic()
+    with pytest.raises(RclCancelled):
+        s.run("x := 0.0\nFOR i := 1 TO 1000 DO x := x + NAP(0.01) END")
+    assert time.monotonic() - t0 < 1.5  # not after the 256 turns a loop of short turns may run unpolled
+    assert 10 <= s["i"] < 100
 
 
 def test_routines_persist_and_can_be_redefined_with_the_same_signature():

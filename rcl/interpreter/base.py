@@ -16,13 +16,13 @@ from ..scope import GlobalScope, Routine, Variable
 
 RETURN = "return"  # what a statement closure gives when a RETURN ran
 MAX_CALL_DEPTH = 1000
+POLL_TURNS = 256  # a loop whose turns are short looks for a cancel this often (well under a millisecond)
 MAX_STRING = 16 * 1024 * 1024  # characters in one STRING
 MAX_LIVE_ELEMENTS = 20_000_000  # elements in the local arrays of all the routines running at once
 USER_FACING = (BuiltinError, FrameError, ArithmeticError)
 
 _FIELD_COLUMN = {"n": 0, "o": 1, "a": 2, "p": 3}
 _VECTOR_AXIS = {"x": 0, "y": 1, "z": 2}
-_ARITHMETIC = {"+": operator.add, "-": operator.sub, "*": operator.mul}
 _COMPARE = {"=": operator.eq, "<>": operator.ne, "<": operator.lt, "<=": operator.le,
             ">": operator.gt, ">=": operator.ge}
 

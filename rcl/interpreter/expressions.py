@@ -3,13 +3,14 @@ the static types say and the checks only run time can make."""
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import NoReturn
 
 from .. import ast as A
 from .. import types as T
 from ..frame import Frame
 from ..scope import Variable
 from ..types import INT_MAX, INT_MIN  # bound here: read on every INTEGER operation
-from .base import _ARITHMETIC, _COMPARE, _FIELD_COLUMN, _VECTOR_AXIS, MAX_STRING, CompilerBase
+from .base import _COMPARE, _FIELD_COLUMN, _VECTOR_AXIS, MAX_STRING, CompilerBase
 
 
 class Expressions(CompilerBase):
@@ -222,37 +223,16 @@ class Expressions(CompilerBase):
         return run
 
     def _integer_arithmetic(self, e: A.BinOp, a: Callable, b: Callable) -> Callable:
-        """+ - * on INTEGERs, each written out: this is the inner loop of most programs. A left
-        operand that is a variable in the activation, and a right one that is too or is a literal,
-        are read in place; an unset one is left to its own reader to report."""
+        """+ - * on INTEGERs, each written out: this is the inner loop of most programs."""
         make, op = self._raiser(), e.op
 
         def overflow():
             return make("INTEGER overflow (beyond 64 bits)", e.op_span)
         i, j = self._frame_slot(e.left), self._frame_slot(e.right)
-        if i is not None and (j is not None or isinstance(e.right, A.Integer)):
-            fn = _ARITHMETIC[op]
-            if j is not None:
-                def both(fr):
-                    x, y = fr[i], fr[j]
-                    if x is None or y is None:
-                        a(fr), b(fr)
-                    z = fn(x, y)
-                    if INT_MIN <= z <= INT_MAX:
-                        return z
-                    raise overflow()
-                return both
-            k = int(e.right.text)  # type: ignore[attr-defined]
-
-            def literal(fr):
-                x = fr[i]
-                if x is None:
-                    a(fr)
-                z = fn(x, k)
-                if INT_MIN <= z <= INT_MAX:
-                    return z
-                raise overflow()
-            return literal
+        if i is not None and j is not None:
+            return self._slots_arithmetic(op, i, j, a, b, overflow)
+        if i is not None and isinstance(e.right, A.Integer):
+            return self._slot_literal_arithmetic(op, i, int(e.right.text), a, overflow)
         if op == "+":
             def run(fr):
                 x = a(fr) + b(fr)
@@ -268,6 +248,72 @@ class Expressions(CompilerBase):
         else:
             def run(fr):
                 x = a(fr) * b(fr)
+                if INT_MIN <= x <= INT_MAX:
+                    return x
+                raise overflow()
+        return run
+
+    # Two variables of the activation, or one and a literal, read in place (no call for each
+    # operand). A variable with no value yet holds None, which makes the operation a TypeError:
+    # the operands' own readers then say which one it is. Written out for speed, as above.
+
+    @staticmethod
+    def _slots_arithmetic(op: str, i: int, j: int, a: Callable, b: Callable, overflow: Callable) -> Callable:
+        if op == "+":
+            def run(fr):
+                try:
+                    x = fr[i] + fr[j]
+                except TypeError:
+                    _raise_unset(fr, a, b)
+                if INT_MIN <= x <= INT_MAX:
+                    return x
+                raise overflow()
+        elif op == "-":
+            def run(fr):
+                try:
+                    x = fr[i] - fr[j]
+                except TypeError:
+                    _raise_unset(fr, a, b)
+                if INT_MIN <= x <= INT_MAX:
+                    return x
+                raise overflow()
+        else:
+            def run(fr):
+                try:
+                    x = fr[i] * fr[j]
+                except TypeError:
+                    _raise_unset(fr, a, b)
+                if INT_MIN <= x <= INT_MAX:
+                    return x
+                raise overflow()
+        return run
+
+    @staticmethod
+    def _slot_literal_arithmetic(op: str, i: int, k: int, a: Callable, overflow: Callable) -> Callable:
+        if op == "+":
+            def run(fr):
+                try:
+                    x = fr[i] + k
+                except TypeError:
+                    _raise_unset(fr, a)
+                if INT_MIN <= x <= INT_MAX:
+                    return x
+                raise overflow()
+        elif op == "-":
+            def run(fr):
+                try:
+                    x = fr[i] - k
+                except TypeError:
+                    _raise_unset(fr, a)
+                if INT_MIN <= x <= INT_MAX:
+                    return x
+                raise overflow()
+        else:
+            def run(fr):
+                try:
+                    x = fr[i] * k
+                except TypeError:
+                    _raise_unset(fr, a)
                 if INT_MIN <= x <= INT_MAX:
                     return x
                 raise overflow()
@@ -310,3 +356,10 @@ class Expressions(CompilerBase):
                 raise make("division by zero", span)
             return whole(x, y)
         return self._checked(run_whole, span) if op == "DIV" else run_whole
+
+
+def _raise_unset(fr: list, *readers: Callable) -> NoReturn:
+    """Raise the error of the first operand with no value yet: its reader's."""
+    for read in readers:
+        read(fr)
+    raise AssertionError("an INTEGER operation failed with every operand set")  # the checker proved the types

@@ -6,9 +6,10 @@ from typing import Any
 
 from .. import ast as A
 from .. import types as T
+from ..builtins import Builtin
 from ..errors import RclRuntimeError
 from ..scope import Routine, Variable
-from .base import RETURN, CompilerBase
+from .base import POLL_TURNS, RETURN, CompilerBase
 
 
 def _counts_steps(root: A.Node) -> bool:
@@ -21,6 +22,24 @@ def _counts_steps(root: A.Node) -> bool:
             return True
         todo.extend(A.children(n))
     return False
+
+
+def _turns_are_short(body: A.Block) -> bool:
+    """Whether every turn of a loop with this body takes a short time: it calls nothing (a
+    built-in may move the arm) and makes no STRING or whole array (copying or comparing one
+    may take milliseconds); an array's element is read in place."""
+    todo: list[A.Node] = [body]
+    while todo:
+        n = todo.pop()
+        if isinstance(n, A.Call) or isinstance(getattr(n, "symbol", None), (Routine, Builtin)):
+            return False
+        if isinstance(n, A.Expr) and (n.type == T.STRING or isinstance(n.type, T.ArrayType)):
+            return False
+        if isinstance(n, A.Index) and isinstance(n.obj, A.Name):
+            todo.append(n.index)
+        else:
+            todo.extend(A.children(n))
+    return True
 
 
 class Statements(CompilerBase):
@@ -149,7 +168,9 @@ class Statements(CompilerBase):
         if self._in_frame(s.symbol) and not _counts_steps(s.body):
             # The tightest loops: the counter stored without a call to a setter, and the steps
             # counted in a local (the body counts none itself), written back however the loop ends.
-            slot = s.symbol.slot
+            # The limit (which a cancel lowers) is read every turn, or every POLL_TURNS turns of
+            # a body whose every turn is short.
+            slot, poll = s.symbol.slot, POLL_TURNS if _turns_are_short(s.body) else 1
             here = self._assignment_here(s.body.body[0]) if len(s.body.body) == 1 else None
             if here is not None and not here[2]:
                 # and a body of one assignment run in place (a sum, a table): one call a turn
@@ -157,13 +178,16 @@ class Statements(CompilerBase):
 
                 def run_assign(fr):
                     steps = ctx.steps
+                    stop = min(ctx.limit, steps + poll - 1)
                     try:
                         for i in turns(fr):
                             fr[slot] = i
                             steps += 1
-                            if steps > ctx.limit:
-                                ctx.steps = steps
-                                ctx.interrupt(filename, span)
+                            if steps > stop:
+                                if steps > ctx.limit:
+                                    ctx.steps = steps
+                                    ctx.interrupt(filename, span)
+                                stop = min(ctx.limit, steps + poll - 1)
                             fr[target] = value(fr)
                     finally:
                         ctx.steps = steps
@@ -171,13 +195,16 @@ class Statements(CompilerBase):
 
             def run_tight(fr):
                 steps = ctx.steps
+                stop = min(ctx.limit, steps + poll - 1)
                 try:
                     for i in turns(fr):
                         fr[slot] = i
                         steps += 1
-                        if steps > ctx.limit:
-                            ctx.steps = steps
-                            ctx.interrupt(filename, span)
+                        if steps > stop:
+                            if steps > ctx.limit:
+                                ctx.steps = steps
+                                ctx.interrupt(filename, span)
+                            stop = min(ctx.limit, steps + poll - 1)
                         if body(fr) is not None:
                             return RETURN
                 finally:
