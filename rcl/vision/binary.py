@@ -40,9 +40,9 @@ from .common import (
     GRASP_MM,
     Clock,
     block_average,
-    block_centre,
     conductor_tip,
     principal_direction,
+    to_input,
     tray_level,
 )
 from .sighting import Sighting
@@ -342,7 +342,7 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
         cap = np.flatnonzero(nearest == r * w + c)
         reach = float(max(((cap // w - centre[0]) * dv + (cap % w - centre[1]) * du).max(), 0.0)) if cap.size else 0.0
         reach = max(reach - 1.5, 0.0)  # from safely inside the wire, at full resolution:
-        u0, v0 = _to_input(centre[1] + reach * du, centre[0] + reach * dv, k)
+        u0, v0 = to_input((centre[0] + reach * dv, centre[1] + reach * du), k).tolist()
         width = 2.0 * float(np.median(inside[tuple(np.array(path[:2 * END_PX]).T)])) * k
         beyond = looks.extend_end(u0, v0, du, dv, limit_px=10.0 * px_per_mm, width=width)
         end_uv = (u0 + beyond * du, v0 + beyond * dv)
@@ -363,7 +363,7 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
                 or span[:, 1].max() >= w - FRAME_MARGIN_MM / mm):
             continue  # the wire near its end may leave the picture and come back: not seen whole
         # how far the end lies beyond the skeleton's end, along the wire
-        ru, rv = _to_input(c, r, k)
+        ru, rv = to_input((r, c), k).tolist()
         beyond_mm = ((end_uv[0] - ru) * du + (end_uv[1] - rv) * dv) / px_per_mm
         steps = np.hypot(*np.diff(np.array(path), axis=0).T)  # diagonal steps are sqrt(2) long
         arc = np.concatenate([[0.0], np.cumsum(steps)]) * mm
@@ -382,7 +382,7 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
         own = {p[0] * w + p[1] for p in path[max(g - reach_px - 2, 0):]}
         if _other_wire_near(mask, nearest, width / (2 * k), grasp, disc, own):
             continue
-        out.append(Sighting(end_uv, end_angle, _to_input(grasp[1], grasp[0], k), tangent, score=clearance))
+        out.append(Sighting(end_uv, end_angle, tuple(to_input(grasp, k).tolist()), tangent, score=clearance))
     out.sort(key=lambda s: -s.score)
     return out
 
@@ -441,6 +441,3 @@ def _clearance(mask: np.ndarray, at: tuple[int, int], tangent_deg: float, reach:
     return float(min(sides))
 
 
-def _to_input(col: float, row: float, k: int) -> tuple[float, float]:
-    """An averaged pixel's centre as input (u, v)."""
-    return (block_centre(col, k), block_centre(row, k))

@@ -19,6 +19,11 @@ def block_centre(x, k: int):
     return (x + 0.5) * k - 0.5
 
 
+def to_input(rc, k: int) -> np.ndarray:
+    """Averaged-image (row, col) points, one pair or (N, 2), as input (u, v) pixel coordinates."""
+    return block_centre(np.asarray(rc, float)[..., ::-1], k)
+
+
 def block_average(grey: np.ndarray, k: int) -> np.ndarray:
     """The mean of each k x k block (float32); a partial block at an edge is dropped. A colour
     image (rows, cols, channels) is averaged channel by channel."""

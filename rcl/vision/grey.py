@@ -47,7 +47,7 @@ import time
 import numpy as np
 
 from ..camera.images import as_grey
-from .common import GRASP_MM, Clock, block_average, block_centre, conductor_tip, principal_direction, tray_level
+from .common import GRASP_MM, Clock, block_average, conductor_tip, principal_direction, to_input, tray_level
 from .sighting import Sighting
 
 SPAN_MM = 20.0  # the length of wire, from the end, that must be free (grasp point + 5 mm)
@@ -172,10 +172,10 @@ def find_wires_grey(image: np.ndarray, px_per_mm: float = 4.0, enough: int = ENO
     result.timings["follow"] -= ends_ms * 1000.0
     result.timings["ends"] = ends_ms * 1000.0
     kept.sort(key=lambda s: -s.score)
-    result.candidates = [Sighting(tuple(_to_input(np.array([s.end[::-1]]), k)[0]), s.end_angle,
-                                  tuple(_to_input(np.array([s.grasp[::-1]]), k)[0]), s.grasp_angle, s.score)
+    result.candidates = [Sighting(tuple(to_input(s.end[::-1], k).tolist()), s.end_angle,
+                                  tuple(to_input(s.grasp[::-1], k).tolist()), s.grasp_angle, s.score)
                          for s in kept]
-    result.contours = [_to_input(chain_points(*c), k) for c in result.chains]
+    result.contours = [to_input(chain_points(*c), k) for c in result.chains]
     clock("report")
     result.timings["total"] = sum(result.timings.values())
     return result
@@ -595,7 +595,3 @@ def _runs(idx: np.ndarray) -> list[np.ndarray]:
     return np.split(idx, cut)
 
 
-def _to_input(pts: np.ndarray, k: int) -> np.ndarray:
-    """Working (row, col) points -> input (u, v) pixel coordinates."""
-    pts = np.asarray(pts, float)
-    return np.column_stack([block_centre(pts[:, 1], k), block_centre(pts[:, 0], k)])
