@@ -20,12 +20,13 @@ from ..values import default_factory
 from .base import MAX_LIVE_ELEMENTS, RETURN
 from .calls import Calls
 from .expressions import Expressions
+from .operators import Operators
 from .statements import Statements
 
 __all__ = ["MAX_LIVE_ELEMENTS", "RETURN", "Compiler"]
 
 
-class Compiler(Statements, Expressions, Calls):
+class Compiler(Statements, Expressions, Operators, Calls):
     """Turns checked modules and routines into closures over one session's storage."""
 
     def module_code(self, m: A.Module) -> Callable[[], None]:

@@ -1,5 +1,5 @@
 """The compiler's shared state and the limits it enforces at run time; the other parts
-(statements, expressions, calls) each extend CompilerBase, and the methods at its end are
+(statements, expressions, operators, calls) each extend CompilerBase, and the methods at its end are
 the entry points they call in one another."""
 from __future__ import annotations
 
