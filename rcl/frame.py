@@ -57,8 +57,9 @@ class Frame:
         self._m = m
 
     @classmethod
-    def _trusted(cls, m: np.ndarray) -> Frame:
-        """Wrap a matrix known to be rigid (the result of frame algebra)."""
+    def trusted(cls, m: np.ndarray) -> Frame:
+        """Wrap a matrix known to be rigid, unchecked: for the results of frame algebra (a
+        product of frames, an inverse), which are rigid by construction. m becomes read-only."""
         f = object.__new__(cls)
         m.flags.writeable = False
         f._m = m
@@ -68,7 +69,7 @@ class Frame:
 
     @classmethod
     def identity(cls) -> Frame:
-        return cls._trusted(np.eye(4))
+        return cls.trusted(np.eye(4))
 
     @classmethod
     def trans(cls, x: float, y: float, z: float) -> Frame:
@@ -76,7 +77,7 @@ class Frame:
             raise FrameError(f"a translation must be finite, not ({x:g}, {y:g}, {z:g})")
         m = np.eye(4)
         m[0, 3], m[1, 3], m[2, 3] = x, y, z
-        return cls._trusted(m)
+        return cls.trusted(m)
 
     @classmethod
     def rotx(cls, deg: float) -> Frame:
@@ -126,13 +127,13 @@ class Frame:
     def _from_rotation(cls, r: np.ndarray) -> Frame:
         m = np.eye(4)
         m[:3, :3] = r
-        return cls._trusted(m)
+        return cls.trusted(m)
 
     # Algebra ------------------------------------------------------------
 
     def __mul__(self, other):
         if isinstance(other, Frame):
-            return Frame._trusted(self._m @ other._m)
+            return Frame.trusted(self._m @ other._m)
         if isinstance(other, np.ndarray) and other.shape == (3,):
             return self.apply(other)
         return NotImplemented
@@ -155,7 +156,7 @@ class Frame:
         out = m.T.copy()
         out[:3, 3] = -(out[:3, :3] @ m[:3, 3])
         out[3, :3] = 0.0
-        self._inv = inverse = Frame._trusted(out)
+        self._inv = inverse = Frame.trusted(out)
         return inverse
 
     # Access -------------------------------------------------------------
@@ -185,7 +186,7 @@ class Frame:
         """The same axes with another origin."""
         m = self._m.copy()
         m[:3, 3] = p
-        return Frame._trusted(m)
+        return Frame.trusted(m)
 
     def dist(self, other: Frame) -> float:
         """Distance between the two origins."""

@@ -22,12 +22,10 @@ def private_history(tmp_path, monkeypatch):
     monkeypatch.setenv("RCL_HISTORY", str(tmp_path / "history"))
 
 
-def drive(text: str, repl: Repl | None = None, during=None) -> str:
+def drive(text: str, during=None) -> str:
     """Type text into a REPL (\\r is Enter), then Ctrl-D; what the REPL printed."""
     out = io.StringIO()
-    repl = repl or Repl(lambda: Session(out=out, robot=RecordingArm()), out=out)
-    repl._out = out
-    repl.session._ctx._out = out
+    repl = Repl(lambda: Session(out=out, robot=RecordingArm()), out=out)
     with create_pipe_input() as pipe:
         pipe.send_text(text + "\x04")
         if during:

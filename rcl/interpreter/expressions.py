@@ -114,7 +114,7 @@ class Expressions(CompilerBase):
         field = e.name.key
         if T.is_frame(e.obj.type):
             column = _FIELD_COLUMN[field]
-            return lambda fr: obj(fr)._m[:3, column]
+            return lambda fr: obj(fr).matrix[:3, column]
         axis = _VECTOR_AXIS[field]
         return lambda fr: float(obj(fr)[axis])
 

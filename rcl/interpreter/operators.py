@@ -75,22 +75,22 @@ class Operators(CompilerBase):
                 factors.append(x)
         flatten(e)
         fs = [self.expr(x) for x in factors]
-        trusted = Frame._trusted
+        trusted = Frame.trusted
         if len(fs) == 2:
             a, b = fs
-            return lambda fr: trusted(a(fr)._m @ b(fr)._m)
+            return lambda fr: trusted(a(fr).matrix @ b(fr).matrix)
         if len(fs) == 3:
             a, b, c = fs
-            return lambda fr: trusted(a(fr)._m @ b(fr)._m @ c(fr)._m)
+            return lambda fr: trusted(a(fr).matrix @ b(fr).matrix @ c(fr).matrix)
         if len(fs) == 4:
             a, b, c, d = fs
-            return lambda fr: trusted(a(fr)._m @ b(fr)._m @ c(fr)._m @ d(fr)._m)
+            return lambda fr: trusted(a(fr).matrix @ b(fr).matrix @ c(fr).matrix @ d(fr).matrix)
         first, *rest = fs
 
         def run(fr):
-            m = first(fr)._m
+            m = first(fr).matrix
             for f in rest:
-                m = m @ f(fr)._m
+                m = m @ f(fr).matrix
             return trusted(m)
         return run
 
