@@ -8,6 +8,8 @@ SCALES_MM = (0.35, 0.7, 1.2)  # Gaussian sigmas matched to wire diameters ~0.8, 
 MIN_SIGMA_PX = 0.8  # below this a Gaussian on the working grid is no longer one
 RIDGE_HIGH = 2.0  # hysteresis on the ridge strength, in units of the contrast's spread
 RIDGE_LOW = 0.9
+FAINT_SHARE = 0.85  # a picture with no ridge at RIDGE_HIGH (a two-tone board's pattern makes the spread the tones'
+FAINT_FLOOR = 1.4  # difference): the high threshold falls to this share of its strongest ridge, not below the floor
 MIN_LINE_MM = 10.0  # shorter centre-line pieces are noise, texture or too short to take
 # 8-neighbour offsets (row, col), clockwise from E
 NEIGHBOURS = ((0, 1), (1, 1), (1, 0), (1, -1), (0, -1), (-1, -1), (-1, 0), (-1, 1))
@@ -114,7 +116,9 @@ def centre_lines(strength: np.ndarray, smoothed: list, which: np.ndarray, wppm: 
     if n == 0:
         return peak
     strong = np.zeros(n + 1, bool)
-    strong[np.unique(labels[peak & (strength > RIDGE_HIGH)])] = True
+    top = float(strength.max())
+    high = RIDGE_HIGH if top >= RIDGE_HIGH else max(FAINT_FLOOR, FAINT_SHARE * top)  # rather than see nothing
+    strong[np.unique(labels[peak & (strength > high)])] = True
     size = np.bincount(labels.ravel(), minlength=n + 1)
     strong &= size >= MIN_LINE_MM * wppm * 0.7
     strong[0] = False
