@@ -291,6 +291,28 @@ def test_ridge_sees_a_red_wire_on_a_green_board_that_grey_levels_barely_tell_apa
     assert res.candidates and np.linalg.norm(np.array(res.candidates[0].end) / 4.0 - centre[0]) < 1.0
 
 
+@pytest.mark.parametrize("strongest, drawn", [(1.8, True), (1.5, True), (1.3, False)])
+def test_centre_lines_in_a_picture_whose_ridges_are_all_faint(strongest, drawn):
+    """Where no ridge reaches the high threshold, the threshold falls to 0.85 of the strongest
+    ridge (not below 1.4): a faint 30 mm line is drawn, whole, unless it is fainter than that."""
+    from rcl.vision.ridge.lines import RIDGE_HIGH, centre_lines, ridges
+
+    wppm = 4.0
+    f = np.zeros((160, 200), np.float32)
+    f[80:83, 40:160] = 1.0  # a wire 0.75 mm wide and 30 mm long
+    f[100:140, 20:60] = 0.3  # and a faint patch
+    strength, smoothed, which, _ = ridges(f, wppm)
+    f *= strongest / float(strength.max())
+    strength, smoothed, which, _ = ridges(f, wppm)
+    assert strength.max() < RIDGE_HIGH
+    lines = centre_lines(strength, smoothed, which, wppm)
+    if drawn:
+        rows, cols = np.nonzero(lines)
+        assert set(np.unique(rows)) <= {80, 81, 82} and cols.min() <= 42 and cols.max() >= 157
+    else:
+        assert not lines.any()
+
+
 def test_ridge_refuses_an_end_cut_by_the_frame_and_one_crowded_by_another_wire():
     image, _centre, _d = straight_wire_image(0.0, tip_mm=(-10.0, 64.0))  # the tip beyond the left edge
     res = find_wires_ridge(image, 4.0, enough=0)
