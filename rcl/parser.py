@@ -111,7 +111,7 @@ class _BareReturn:
         held = None
         for tok in stream:
             if held is not None:
-                if held.type == "RETURN" and _line(tok) > _line(held):
+                if held.type == "RETURN" and tok.line > held.line:  # type: ignore[operator]
                     held = Token.new_borrow_pos("RETURN_BARE", held.value, held)
                 yield held
             held = tok
@@ -123,13 +123,11 @@ class _BareReturn:
 
 # Spans -------------------------------------------------------------------
 
+# lark types a Token's positions int | None; our lexer always sets them. Said with ignores, not
+# cast(): these run for every token, and cast is a call.
+
 def _tok_span(t: Token) -> A.Span:
-    line, col, end_line, end_col = cast(tuple[int, int, int, int], (t.line, t.column, t.end_line, t.end_column))
-    return A.Span(line, col, end_line, max(col, end_col - 1))
-
-
-def _line(t: Token) -> int:
-    return cast(int, t.line)  # our lexer keeps positions: a Token's are never None
+    return A.Span(t.line, t.column, t.end_line, max(t.column, t.end_column - 1))  # type: ignore[arg-type, type-var, operator]
 
 
 def _span_of(x) -> A.Span:
