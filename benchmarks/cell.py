@@ -85,7 +85,7 @@ def run(job: tuple[tuple, int]) -> dict:
     if model == "linear":
         session.camera_model.model = linear_model(cell)
         source = source.replace("\nGETWARP\n", "\n")
-    watcher = RunWatcher(cell.sim, session, keep_images=False)
+    watcher = RunWatcher(session, keep_images=False)
     error = ""
     try:
         session.run(source, "crimp.rcl")

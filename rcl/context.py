@@ -39,6 +39,10 @@ class Context:
     def out(self):
         return self._out if self._out is not None else sys.stdout
 
+    @out.setter
+    def out(self, stream) -> None:
+        self._out = stream
+
     def start(self, budget: int | None) -> None:
         self.stack.clear()
         self.errmsgs.clear()

@@ -1,9 +1,11 @@
-"""What `rcl run` tells about a run on the simulated cell: a summary line, the
---report JSON and the --pictures PNGs (one per look, with its outcome)."""
+"""What `rcl run` tells about a run: a summary line, the --report JSON, the --pictures PNGs
+(one per look, with its outcome) and what the --page is made of (rcl.runpage): the looks,
+the lines the program wrote, and the tray and the gripper as they were after each change."""
 from __future__ import annotations
 
 import json
 import statistics
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -15,20 +17,105 @@ class Look:
     image: Any
     result: Any
     ms: float
+    time_s: float = 0.0  # the arm's clock at the look
+
+
+@dataclass
+class Line:
+    """A line the program wrote (WRITE, WRITELN): when, and how many looks it had made by then."""
+
+    text: str
+    time_s: float
+    looks: int
+
+
+@dataclass
+class TrayState:
+    """The wires on the tray from time_s on: number -> its rcl.vision.synth.Wire (tray mm). The
+    cell replaces a wire's centre-line array when it moves one, never writes into it, so the
+    states share the arrays that did not change."""
+
+    time_s: float
+    wires: dict[int, Any]
+
+
+@dataclass
+class HeldState:
+    """What the fingers held from time_s on: a wire's number and its centre line in the tool's
+    frame (4 x N, homogeneous), or None."""
+
+    time_s: float
+    wire: int | None
+    shape: Any = None
 
 
 class RunWatcher:
-    """Watches a session's looks on a SimCell and reports when the run is over."""
+    """Watches a session's looks, its output and, on a simulated cell, the cell's events, and
+    reports when the run is over. Make it before the run:
 
-    def __init__(self, cell, session, keep_images: bool = True) -> None:
-        self.cell = cell
+        watcher = RunWatcher(session)
+        session.run_file("crimp.rcl")
+        watcher.finish(report_path=None, pictures=None, page="out")   # or rcl.runpage.write_page
+
+    keep_images: keep each look's image and result (for pictures, frames and the page)."""
+
+    def __init__(self, session, keep_images: bool = True) -> None:
+        self.cell = cell = session.sim_cell
+        self.session = session
+        self.arm = getattr(session.robot, "inner", session.robot)  # the SimRobot behind a cell's arm
         self.looks: list[Look] = []
+        self.lines: list[Line] = []
+        self.trays: list[TrayState] = []
+        self.held: list[HeldState] = []
         self.keep_images = keep_images
         session.on_look = self._look
+        session.out = _Tee(session.out, self._wrote)
+        self._changes = -1
+        self._order: dict[str, list[int]] = {"look": [], "event": [], "line": []}  # when each was recorded
+        if cell is not None:
+            cell.on_event = self._event
+            self._tray_now()
+            self.held.append(HeldState(self.clock, None))
+
+    @property
+    def clock(self) -> float:
+        """The arm's clock (simulated seconds; 0 for an arm without one)."""
+        return float(getattr(self.arm, "clock", 0.0))
 
     def _look(self, image, result, ms: float) -> None:
         keep = self.keep_images
-        self.looks.append(Look(self.cell.camera.grabs, image if keep else None, result if keep else None, ms))
+        number = self.cell.camera.grabs if self.cell is not None else len(self.looks) + 1
+        self.looks.append(Look(number, image if keep else None, result if keep else None, ms, self.clock))
+        self._recorded("look")
+        if self.cell is not None:
+            self._tray_now()
+
+    def _wrote(self, line: str) -> None:
+        self.lines.append(Line(line, self.clock, len(self.looks)))
+        self._recorded("line")
+
+    def _event(self, event) -> None:
+        self._recorded("event")
+        self._tray_now()
+        held = self.cell.held
+        last = self.held[-1]
+        if (held.wire if held is not None else None) != last.wire or (held is not None and held.shape is not last.shape):
+            self.held.append(HeldState(event.time_s, held.wire if held else None, held.shape if held else None))
+
+    def _recorded(self, kind: str) -> None:
+        self._order[kind].append(sum(len(v) for v in self._order.values()))
+
+    def seq_of(self, kind: str, index: int) -> int:
+        """The order in which the index-th look, event (of the cell's) or line was recorded: what
+        happened at one time of the arm's clock is told in the order it happened."""
+        order = self._order[kind]
+        return order[index] if index < len(order) else -1
+
+    def _tray_now(self) -> None:
+        tray = self.cell.tray
+        if tray.changes != self._changes:
+            self._changes = tray.changes
+            self.trays.append(TrayState(self.clock, dict(tray.wires)))
 
     def report(self) -> dict:
         r = self.cell.summary()
@@ -57,54 +144,101 @@ class RunWatcher:
                 f"{r['attempts']} picks tried, {len(r['failures'])} failures; "
                 f"robot time {r['robot_time_s']:.1f} s{vision}")
 
-    def finish(self, report_path: str | None, pictures: str | None,
-               frames: str | None = None) -> tuple[str | None, list[str]]:
+    def finish(self, report_path: str | None, pictures: str | None, frames: str | None = None,
+               page: str | None = None, meta: dict | None = None) -> tuple[str | None, list[str]]:
         """Write what was asked for: (the summary line, or None without a cell run; what could not
-        be written, each as `rcl: error: ...`). The caller shows them."""
-        r = self.report()
+        be written, each as `rcl: error: ...`). The caller shows them. The report, pictures and
+        frames are of a cell's run; a page is of any run (meta: what its heading names)."""
+        r = self.report() if self.cell is not None else None
         problems = []
-        if report_path:
+        if report_path and r is not None:
             try:
                 Path(report_path).write_text(json.dumps(r, indent=2) + "\n")
             except OSError as e:
                 problems.append(f"rcl: error: --report: cannot write {report_path}: {e.strerror or e}")
         for option, folder, write in (("--pictures", pictures, self.write_pictures),
                                        ("--frames", frames, self.write_frames)):
-            if folder:
+            if folder and r is not None:
                 try:
                     write(Path(folder))
                 except OSError as e:
                     problems.append(f"rcl: error: {option}: cannot write into {folder}: {e.strerror or e}")
-        return self.summary_line(r), problems
+        if page:
+            from .runpage import PageError, write_page
+
+            try:
+                write_page(page, self, meta)
+            except PageError as e:
+                problems.append(f"rcl: error: --page: {e}")
+            except OSError as e:
+                problems.append(f"rcl: error: --page: cannot write into {page}: {e.strerror or e}")
+        return (self.summary_line(r) if r is not None else None), problems
 
     def write_frames(self, folder: Path) -> None:
         """Each look's camera image as the finder got it, frame-NNN.png (NNN: the look's number, as
         on the pictures), 8 bits a channel: what `rcl vision` can be tried on."""
-        import numpy as np
-        from PIL import Image
-
         folder.mkdir(parents=True, exist_ok=True)
         for i, look in enumerate(self.looks, start=1):
-            pixels = np.clip(np.asarray(look.image, float), 0.0, 1.0) * 255.0
-            Image.fromarray(np.round(pixels).astype(np.uint8)).save(folder / f"frame-{i:03d}.png")
+            frame_image(look).save(folder / f"frame-{i:03d}.png")
 
     def write_pictures(self, folder: Path) -> None:
+        folder.mkdir(parents=True, exist_ok=True)
+        for i, look in enumerate(self.looks, start=1):
+            self.picture(i, look).save(folder / f"look-{i:03d}.png")
+
+    def picture(self, i: int, look: Look):
+        """The i-th look drawn: what vision saw and chose, captioned with what came of it (Pillow)."""
         from PIL import ImageDraw
 
         from .vision.overlay import draw
 
-        folder.mkdir(parents=True, exist_ok=True)
-        for i, look in enumerate(self.looks, start=1):
-            picture = draw(look.image, look.result)
-            pen = ImageDraw.Draw(picture)
-            lines = [f"look {i}: " + (f"{len(look.result.candidates)} free ends seen"
-                                      if look.result.candidates else "no free wire end seen")]
-            lines += [_outcome(e) for e in self.cell.events if e.look == look.number]
-            y = 4
-            for text in lines:
-                caption(pen, (4, y), text)
-                y += 12
-            picture.save(folder / f"look-{i:03d}.png")
+        picture = draw(look.image, look.result)
+        pen = ImageDraw.Draw(picture)
+        lines = [f"look {i}: " + (f"{len(look.result.candidates)} free ends seen"
+                                  if look.result.candidates else "no free wire end seen")]
+        if self.cell is not None:
+            lines += [outcome_text(e) for e in self.cell.events if e.look == look.number]
+        y = 4
+        for text in lines:
+            caption(pen, (4, y), text)
+            y += 12
+        return picture
+
+
+def frame_image(look: Look):
+    """A look's camera image as the finder got it, 8 bits a channel (Pillow)."""
+    import numpy as np
+    from PIL import Image
+
+    pixels = np.clip(np.asarray(look.image, float), 0.0, 1.0) * 255.0
+    return Image.fromarray(np.round(pixels).astype(np.uint8))
+
+
+class _Tee:
+    """A text stream that passes everything on to `inner` and tells `line` of each whole line.
+    An inner that is sys.stdout is looked up at each write, as the session would have."""
+
+    def __init__(self, inner, line) -> None:
+        self._inner = None if inner is sys.stdout else inner
+        self.line, self.pending = line, ""
+
+    @property
+    def inner(self):
+        return self._inner if self._inner is not None else sys.stdout
+
+    def write(self, text: str) -> int:
+        self.inner.write(text)
+        self.pending += text
+        *done, self.pending = self.pending.split("\n")
+        for whole in done:
+            self.line(whole)
+        return len(text)
+
+    def flush(self) -> None:
+        self.inner.flush()
+
+    def __getattr__(self, name):  # isatty, encoding ...
+        return getattr(self.inner, name)
 
 
 def caption(pen, xy: tuple[int, int], text: str) -> None:
@@ -117,7 +251,7 @@ def caption(pen, xy: tuple[int, int], text: str) -> None:
         x += int(pen.textlength(word)) + 4
 
 
-def _outcome(e) -> str:
+def outcome_text(e) -> str:
     wire = f"wire {e.wire}" if e.wire is not None else ""
     if e.ok:
         return {"pick": f"{wire} taken", "press": f"{wire} crimped", "bath": f"{wire} tinned",

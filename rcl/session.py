@@ -165,6 +165,20 @@ class Session:
             self.on_look(image, result, ms)
         return result.candidates[0] if result.candidates else None
 
+    @property
+    def sim_cell(self):
+        """The simulated cell (rcl.cell.SimCell) this session's robot and camera act on, or None."""
+        return self._ctx.cell
+
+    @property
+    def out(self):
+        """Where WRITE and WRITELN go: a text stream (sys.stdout unless `out` was given)."""
+        return self._ctx.out
+
+    @out.setter
+    def out(self, stream) -> None:
+        self._ctx.out = stream
+
     def cancel(self, reason: str = "cancelled", by_user: bool = False) -> None:
         """Stop the running program at its next loop iteration or call (safe from any thread).
         by_user: it was the user's Ctrl-C (the CLI then exits 130)."""

@@ -60,6 +60,7 @@ class WireTray:
         self._board: np.ndarray | None = None
         self._dense: dict[int, np.ndarray] = {}
         self._picture: np.ndarray | None = None
+        self.changes = 0  # how many times a wire has been taken, laid, pushed or shaken
 
     def __len__(self) -> int:
         return len(self.wires)
@@ -149,6 +150,7 @@ class WireTray:
         return centre + shift
 
     def _changed(self, number: int) -> None:
+        self.changes += 1
         self._dense.pop(number, None)
         self._picture = None
 

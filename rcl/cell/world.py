@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -153,6 +153,7 @@ class SimCell:
         self.last_taken: int | None = None  # the wire the fingers' last close on the tray took
         self.last_failure = ""  # what failed last, in the words of the events
         self.results: dict[int, str] = {}  # wire -> crimped, tinned, rejected, lost
+        self.on_event: Callable[[Event], None] | None = None  # told of every event, once it is recorded
 
     @property
     def view(self) -> TrayView:
@@ -180,6 +181,8 @@ class SimCell:
         self.events.append(e)
         if not ok:
             self.last_failure = f"{what} failed: {why}"
+        if self.on_event is not None:
+            self.on_event(e)
         return e
 
     # The camera ---------------------------------------------------------------------
