@@ -80,6 +80,9 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--frames", metavar="DIR",
                      help="write each look's raw camera image, frame-NNN.png (numbered as the pictures), "
                           "to try `rcl vision` on")
+    run.add_argument("--page", metavar="DIR",
+                     help="write DIR/index.html, a page of the run that opens offline: summary, timeline, "
+                          "each look's pictures and a 3D view of the cell and the arm (needs rcl[page])")
     run.set_defaults(handler=_run)
     repl = sub.add_parser("repl", parents=[setup], help="the interactive prompt (the default command)")
     repl.set_defaults(handler=_repl, file="<stdin>")
@@ -228,6 +231,13 @@ def _with_setup(args, body) -> int:
 
 
 def _run(args) -> int:
+    if args.page:  # said before the run, not after it
+        from .runpage import PageError, plotly_script
+
+        try:
+            plotly_script()
+        except PageError as e:
+            return _fail(f"rcl: error: --page: {e}", EXIT_STATIC)
     if hasattr(sys.stdout, "reconfigure"):
         sys.stdout.reconfigure(line_buffering=True)  # a long task's lines show as they come, piped too
 
@@ -235,10 +245,12 @@ def _run(args) -> int:
         from .runreport import RunWatcher
 
         session = new_session()
-        watcher = RunWatcher(cell.sim, session) if cell.sim is not None else None
+        watcher = RunWatcher(session) if cell.sim is not None or args.page else None
         code = _run_session(session, args)
         if watcher is not None and code != EXIT_STATIC:
-            line, problems = watcher.finish(args.report, args.pictures, args.frames)
+            meta = {"program": args.file, "cell": cell.config.name,
+                    "seed": args.seed if cell.sim is not None else None}
+            line, problems = watcher.finish(args.report, args.pictures, args.frames, args.page, meta)
             if line:
                 print(line, flush=True)
             for problem in problems:

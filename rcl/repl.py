@@ -23,6 +23,7 @@ from .errors import RclCancelled, RclRuntimeError, RclStaticError, report
 from .frame import Frame
 from .keywords import keywords
 from .parser import needs_more_input, parse_expression
+from .runreport import RunWatcher
 from .session import FileNotReadable, Session
 from .values import Array, format_real, format_value
 
@@ -34,6 +35,7 @@ COMMANDS = {
     ":load": ":load FILE     check and run a file in this session",
     ":vars": ":vars          the variables and their values",
     ":reset": ":reset         forget every variable and routine",
+    ":page": ":page DIR       write DIR/index.html: this session's looks, picks and arm in 3D (needs rcl[page])",
     ":quit": ":quit          leave (as Ctrl-D does)",
 }
 _WORD = re.compile(r"[A-Za-z][A-Za-z0-9_]*\^?$")
@@ -106,6 +108,7 @@ class Repl:
                  err: TextIO | None = None) -> None:
         self.new_session = new_session
         self.session = new_session()
+        self.watcher = RunWatcher(self.session)  # what :page shows
         self._out = out
         self.err = err  # where errors go; None: with the rest (the terminal)
         self.status = 0  # the worst error so far: 2 static, 1 at run time, 130 Ctrl-C
@@ -237,12 +240,27 @@ class Repl:
         elif name == ":vars":
             for line in self.variables():
                 self.say(line)
+        elif name == ":page":
+            self.say(self.page(arg) if arg else "usage: :page DIR")
         elif name == ":reset":
             self.session = self.new_session()
+            self.watcher = RunWatcher(self.session)
             self.say("a new session: every variable and routine is forgotten")
         else:
             self.say(f"unknown command {name}; :help lists them")
         return True
+
+    def page(self, folder: str) -> str:
+        """Write the page of this session so far into folder; what came of it."""
+        from .runpage import PageError, write_page
+
+        try:
+            index = write_page(folder, self.watcher, {"program": "the REPL session"})
+        except PageError as e:
+            return f"error: {e}"
+        except OSError as e:
+            return f"error: cannot write into {folder}: {e.strerror or e}"
+        return f"wrote {index}"
 
     def help(self, name: str) -> str:
         if not name:
