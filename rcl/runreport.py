@@ -210,8 +210,11 @@ def frame_image(look: Look):
     import numpy as np
     from PIL import Image
 
-    pixels = np.clip(np.asarray(look.image, float), 0.0, 1.0) * 255.0
-    return Image.fromarray(np.round(pixels).astype(np.uint8))
+    a = np.asarray(look.image)
+    if a.dtype != np.uint8:  # levels in [0, 1], as cameras here give them (16 bits: in [0, 65535])
+        scale = 1.0 / 65535.0 if a.dtype == np.uint16 else 1.0
+        a = np.round(np.clip(a.astype(float) * scale, 0.0, 1.0) * 255.0).astype(np.uint8)
+    return Image.fromarray(a)
 
 
 class _Tee:

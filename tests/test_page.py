@@ -240,3 +240,13 @@ def _drew_arm(png: bytes, rect) -> bool:
     view = img[y:y + h, x:x + w]
     orange = (np.abs(view - np.array([230, 126, 34])).sum(axis=2) < 40).sum()
     return bool(orange > 200)
+
+
+def test_a_looks_frame_keeps_its_levels_whatever_the_cameras_numbers():
+    from rcl.runreport import Look, frame_image
+
+    grey = np.linspace(0.0, 1.0, 256)[None, :].repeat(4, axis=0)
+    want = np.round(grey * 255).astype(np.uint8)
+    for image in (grey, grey.astype(np.float32), want, (grey * 65535).round().astype(np.uint16)):
+        got = np.asarray(frame_image(Look(1, image, None, 0.0)))
+        assert np.abs(got.astype(int) - want).max() <= 1
