@@ -3,6 +3,7 @@
 the lines the program wrote, and the tray and the gripper as they were after each change."""
 from __future__ import annotations
 
+import copy
 import json
 import statistics
 import sys
@@ -31,9 +32,9 @@ class Line:
 
 @dataclass
 class TrayState:
-    """The wires on the tray from time_s on: number -> its rcl.vision.synth.Wire (tray mm). The
-    cell replaces a wire's centre-line array when it moves one, never writes into it, so the
-    states share the arrays that did not change."""
+    """The wires on the tray from time_s on: number -> a copy of its rcl.vision.synth.Wire (tray
+    mm). The cell moves a wire by giving it a new centre-line array, never by writing into one,
+    so the copies share the arrays that did not change."""
 
     time_s: float
     wires: dict[int, Any]
@@ -115,7 +116,7 @@ class RunWatcher:
         tray = self.cell.tray
         if tray.changes != self._changes:
             self._changes = tray.changes
-            self.trays.append(TrayState(self.clock, dict(tray.wires)))
+            self.trays.append(TrayState(self.clock, {n: copy.copy(w) for n, w in tray.wires.items()}))
 
     def report(self) -> dict:
         r = self.cell.summary()

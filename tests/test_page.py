@@ -187,6 +187,12 @@ def test_the_main_jobs_page_tells_what_the_report_and_stdout_tell(main_job):
     tip = np.array(d["samples"]["tip"][i])
     assert np.linalg.norm(held - tip, axis=1).min() < 4.0
     assert len(d["static"]["picks"]) == report["attempts"]
+    # shaking the tray moves its wires: the tray before the shake is not the tray after it
+    t_shake = next(e["t"] for e in d["timeline"] if e["kind"] == "shake")
+    states = w["states"]
+    after = next(i for i, st in enumerate(states) if st["t"] >= t_shake)
+    assert after > 0 and states[after - 1]["wires"].keys() == states[after]["wires"].keys()
+    assert all(states[after - 1]["wires"][n] != states[after]["wires"][n] for n in states[after]["wires"])
 
 
 @pytest.mark.slow
