@@ -66,7 +66,8 @@ def page_data(watcher: RunWatcher, meta: dict[str, Any], folder: Path | None) ->
     arm = watcher.arm
     report = watcher.report() if cell is not None else None
     base, tool = _base_and_tool(cell)
-    samples = _samples(arm, base, tool)
+    times, qs = _sample_joints(arm)
+    samples = _samples(arm, times, qs, base, tool)
     looks = _looks(watcher, cell, folder)
     data: dict[str, Any] = {
         "meta": {k: v for k, v in meta.items() if v is not None},
@@ -81,7 +82,7 @@ def page_data(watcher: RunWatcher, meta: dict[str, Any], folder: Path | None) ->
     if cell is not None:
         data["cell"] = cell.config.name
         data["wires"] = _wires(watcher, cell, samples["t"])
-        data["held"] = _held(watcher, cell, samples, tool)
+        data["held"] = _held(watcher, times, qs, base, tool)
     return data
 
 
@@ -93,17 +94,16 @@ def _base_and_tool(cell) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _r(a) -> list:
-    """Numbers rounded to 0.1 mm (or 1 ms), as a JSON list."""
+    """Numbers (mm) rounded to 0.1, as a JSON list."""
     return np.round(np.asarray(a, float), 1).tolist()
 
 
-def _samples(arm, base: np.ndarray, tool: np.ndarray) -> dict[str, list]:
+def _samples(arm, times: list[float], qs: list[list[float]], base: np.ndarray, tool: np.ndarray) -> dict[str, list]:
     """The arm drawn along its recorded path: for each sample its time, its links' origins (base
     to flange, then the tool point) and a bar across the fingertips, in the world."""
     from .robots.kinematics import frames
 
     xs, ys, zs, tips = [], [], [], []
-    times, qs = _sample_joints(arm)
     for q in qs:
         links = [np.eye(4), *frames(arm.model, q)]
         hand = base @ links[-1] @ tool
@@ -119,7 +119,8 @@ def _samples(arm, base: np.ndarray, tool: np.ndarray) -> dict[str, list]:
 def _sample_joints(arm) -> tuple[list[float], list[list[float]]]:
     """(times, joint vectors) at which the arm is drawn: where it stood first, then every
     SAMPLE_S seconds (at most MOST_SAMPLES times) along each recorded motion, its end included.
-    None for an arm that keeps no record of its path (a real one)."""
+    An arm that keeps no record of its path (a real one) is drawn once, at home unless it says
+    where it is (q); one without a model is not drawn."""
     model = getattr(arm, "model", None)
     if model is None:
         return [], []
@@ -147,9 +148,6 @@ def _looks(watcher: RunWatcher, cell, folder: Path | None) -> list[dict[str, Any
             entry["outcomes"] = [outcome_text(e) for e in cell.events if e.look == look.number]
         if look.result is not None:
             entry["seen"] = len(look.result.candidates)
-            if look.result.candidates:
-                c = look.result.candidates[0]
-                entry["chosen"] = {"end_px": _r(c.end), "grasp_px": _r(getattr(c, "grasp", c.end))}
         if folder is not None and look.image is not None:
             frame_image(look).convert("RGB").save(folder / "looks" / f"frame-{i:03d}.jpg", quality=JPEG_QUALITY)
             watcher.picture(i, look).save(folder / "looks" / f"look-{i:03d}.jpg", quality=JPEG_QUALITY)
@@ -185,10 +183,10 @@ def _timeline(watcher: RunWatcher, cell, looks: list[dict[str, Any]]) -> list[di
     """The run in order: looks, the cell's events, the program's lines (and, for an arm alone,
     its motions), each with its time and the look it followed."""
     items: list[tuple[float, int, dict[str, Any]]] = []
-    for k in looks:
+    for k, look in zip(looks, watcher.looks):
         text = (f"look {k['n']}: {k['seen']} free ends seen" if k["seen"] else f"look {k['n']}: no free wire end seen")
-        items.append((k["t"], watcher.seq_of("look", k["n"] - 1), {"kind": "look", "ok": k["seen"] > 0,
-                                                                   "look": k["n"], "text": text}))
+        items.append((look.time_s, watcher.seq_of("look", k["n"] - 1), {"kind": "look", "ok": k["seen"] > 0,
+                                                                        "look": k["n"], "text": text}))
     if cell is not None:
         for j, e in enumerate(cell.events):
             items.append((e.time_s, watcher.seq_of("event", j),
@@ -227,21 +225,19 @@ def _wires(watcher: RunWatcher, cell, times: list[float]) -> dict[str, Any]:
     return {"numbers": numbers, "colour": colours, "width": widths, "states": states, "at": at}
 
 
-def _held(watcher: RunWatcher, cell, samples: dict[str, list], tool: np.ndarray) -> list:
+def _held(watcher: RunWatcher, times: list[float], qs: list[list[float]], base: np.ndarray,
+          tool: np.ndarray) -> list:
     """For each sample, the held wire in the world ([number, x, y, z]) or None."""
-    times = samples["t"]
-    starts = [h.time_s for h in watcher.held]
-    out: list = []
-    if not starts:
-        return [None] * len(times)
     from .robots.kinematics import fk
 
-    for t, q in zip(times, _sample_joints(watcher.arm)[1]):
+    starts = [h.time_s for h in watcher.held]
+    out: list = []
+    for t, q in zip(times, qs):
         h = watcher.held[max(int(np.searchsorted(starts, t, side="right")) - 1, 0)]
         if h.wire is None or h.shape is None:
             out.append(None)
             continue
-        pose = cell.Z @ fk(watcher.arm.model, q) @ tool
+        pose = base @ fk(watcher.arm.model, q) @ tool
         pts = (pose @ np.asarray(h.shape)[:, ::8])[:3]
         out.append([h.wire, _r(pts[0]), _r(pts[1]), _r(pts[2])])
     return out
