@@ -13,6 +13,7 @@ import json
 import math
 import re
 import shutil
+from collections.abc import Sequence
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -66,7 +67,8 @@ def page_data(watcher: RunWatcher, meta: dict[str, Any], folder: Path | None) ->
     arm = watcher.arm
     report = watcher.report() if cell is not None else None
     base, tool = _base_and_tool(cell)
-    times, qs = _sample_joints(arm)
+    moments = [k.time_s for k in watcher.looks] + ([e.time_s for e in cell.events] if cell is not None else [])
+    times, qs = _sample_joints(arm, moments)
     samples = _samples(arm, times, qs, base, tool)
     looks = _looks(watcher, cell, folder)
     data: dict[str, Any] = {
@@ -77,11 +79,11 @@ def page_data(watcher: RunWatcher, meta: dict[str, Any], folder: Path | None) ->
         "looks": looks,
         "timeline": _timeline(watcher, cell, looks),
         "samples": samples,
-        "static": _static(watcher, cell, samples, base),
+        "static": _static(watcher, cell, times, samples["tip"], base),
     }
     if cell is not None:
         data["cell"] = cell.config.name
-        data["wires"] = _wires(watcher, cell, samples["t"])
+        data["wires"] = _wires(watcher, cell, times)
         data["held"] = _held(watcher, times, qs, base, tool)
     return data
 
@@ -116,24 +118,29 @@ def _samples(arm, times: list[float], qs: list[list[float]], base: np.ndarray, t
     return {"t": [round(v, 3) for v in times], "x": xs, "y": ys, "z": zs, "tip": tips}
 
 
-def _sample_joints(arm) -> tuple[list[float], list[list[float]]]:
+def _sample_joints(arm, moments: Sequence[float] = ()) -> tuple[list[float], list[list[float]]]:
     """(times, joint vectors) at which the arm is drawn: where it stood first, then every
-    SAMPLE_S seconds (at most MOST_SAMPLES times) along each recorded motion, its end included.
+    SAMPLE_S seconds (at most MOST_SAMPLES times) along each recorded motion, its end included,
+    and at each of the moments (a look, an event: the arm stands still then), so that the page
+    shows the tray and the fingers as they were at each.
     An arm that keeps no record of its path (a real one) is drawn once, at home unless it says
     where it is (q); one without a model is not drawn."""
     model = getattr(arm, "model", None)
     if model is None:
         return [], []
     motions = getattr(arm, "trajectory", [])
-    if not motions:
-        return [0.0], [list(getattr(arm, "q", model.home))]
-    times, qs = [motions[0].start], [list(motions[0].path[0])]
+    times = [motions[0].start if motions else 0.0]
+    qs = [list(motions[0].path[0]) if motions else list(getattr(arm, "q", model.home))]
     for m in motions:
         n = len(m.path)
         k = int(np.clip(round((m.end - m.start) / SAMPLE_S) + 1, 2, MOST_SAMPLES))
         for i in np.linspace(0, n - 1, k).round().astype(int)[1:]:
             qs.append(list(m.path[i]))
             times.append(m.start + (m.end - m.start) * i / max(n - 1, 1))
+    for t in sorted(moments, reverse=True):  # each after the samples at or before it
+        at = int(np.searchsorted(times, t, side="right"))
+        times.insert(at, t)
+        qs.insert(at, qs[max(at - 1, 0)])
     return times, qs
 
 
@@ -243,11 +250,10 @@ def _held(watcher: RunWatcher, times: list[float], qs: list[list[float]], base: 
     return out
 
 
-def _static(watcher: RunWatcher, cell, samples: dict[str, list], base: np.ndarray) -> dict[str, Any]:
+def _static(watcher: RunWatcher, cell, times: list[float], tips: list, base: np.ndarray) -> dict[str, Any]:
     """What does not move: the tray, the camera, the stations, the arm's base, the whole path of
     the tool, and where each pick closed the fingers."""
     s: dict[str, Any] = {"base": _r(base[:3, 3])}
-    tips = samples["tip"]
     if tips:
         s["path"] = [[p[i] for p in tips] for i in range(3)]
     if cell is None:
@@ -273,7 +279,6 @@ def _static(watcher: RunWatcher, cell, samples: dict[str, list], base: np.ndarra
             stations.append({"name": "press (die)", "at": _r(die.target), "line": line})
     s["stations"] = stations
     picks = []
-    times = samples["t"]
     for e in cell.events:
         if e.what != "pick" or not tips:
             continue

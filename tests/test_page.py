@@ -181,6 +181,9 @@ def test_the_main_jobs_page_tells_what_the_report_and_stdout_tell(main_job):
     assert str(crimped) in w["states"][w["at"][before]]["wires"]
     assert str(crimped) not in w["states"][w["at"][during[-1]]]["wires"]
     assert w["states"][w["at"][-1]]["wires"] == {}  # the tray is empty at the end
+    # where the timeline's "taken" takes the views, the wire is in the fingers, off the tray
+    at_pick = max(i for i, t in enumerate(T) if t <= t_pick)
+    assert d["held"][at_pick][0] == crimped and str(crimped) not in w["states"][w["at"][at_pick]]["wires"]
     # the held wire hangs from the fingers: its nearest point is at the tool
     i = during[len(during) // 2]
     held = np.array(d["held"][i][1:]).T
