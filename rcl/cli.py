@@ -246,10 +246,11 @@ def _run(args) -> int:
 
         session = new_session()
         watcher = RunWatcher(session) if cell.sim is not None or args.page else None
-        code = _run_session(session, args)
+        said: list[str] = []
+        code = _run_session(session, args, said=said)
         if watcher is not None and code != EXIT_STATIC:
             meta = {"program": args.file, "cell": cell.config.name,
-                    "seed": args.seed if cell.sim is not None else None}
+                    "seed": args.seed if cell.sim is not None else None, "error": "\n".join(said) or None}
             line, problems = watcher.finish(args.report, args.pictures, args.frames, args.page, meta)
             if line:
                 print(line, flush=True)
@@ -304,8 +305,14 @@ def _ctrl_c_stops_at_a_statement(session):
         signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
-def _run_session(session, args, source: str | None = None) -> int:
+def _run_session(session, args, source: str | None = None, said: list[str] | None = None) -> int:
+    """Run the program; its exit status. said: where the error message, if any, is also put."""
     from .session import FileNotReadable, RclInternalError
+
+    def failed(message: str, code: int) -> int:
+        if said is not None:
+            said.append(message)
+        return _fail(message, code)
 
     try:
         with _ctrl_c_stops_at_a_statement(session):
@@ -314,15 +321,15 @@ def _run_session(session, args, source: str | None = None) -> int:
             else:
                 session.run(source, args.file)
     except FileNotReadable as e:
-        return _fail(f"rcl: error: {e}", EXIT_STATIC)
+        return failed(f"rcl: error: {e}", EXIT_STATIC)
     except RclStaticError as e:
         return _report_static(e)
     except (RclRuntimeError, RclCancelled) as e:
-        return _fail(*report(e))
+        return failed(*report(e))
     except RclInternalError as e:
         if os.environ.get("RCL_DEBUG"):
             raise
-        return _fail(f"rcl: {e} (a fault in RCL itself; set RCL_DEBUG=1 to see where)", EXIT_RUNTIME)
+        return failed(f"rcl: {e} (a fault in RCL itself; set RCL_DEBUG=1 to see where)", EXIT_RUNTIME)
     finally:
         _flush()
     return EXIT_OK

@@ -46,7 +46,8 @@ def plotly_script() -> Path:
 
 def write_page(folder: str | Path, watcher: RunWatcher, meta: dict[str, Any] | None = None) -> Path:
     """Write the page of a watched run into folder (made if need be): index.html, plotly.min.js
-    and looks/. meta: what the page's heading names (program, seed, ...). Returns index.html's
+    and looks/. meta: what the page's heading names (program, cell, seed; error: the message a
+    run that failed stopped with, shown at the top and last on the timeline). Returns index.html's
     path; PageError if plotly is missing, OSError if the folder cannot be written."""
     script = plotly_script()
     folder = Path(folder)
@@ -81,6 +82,9 @@ def page_data(watcher: RunWatcher, meta: dict[str, Any], folder: Path | None) ->
         "samples": samples,
         "static": _static(watcher, cell, times, samples["tip"], base),
     }
+    if meta.get("error"):  # the run stopped on it: the timeline ends with it
+        data["timeline"].append({"t": round(watcher.clock, 3), "kind": "error", "ok": False,
+                                 "look": len(watcher.looks), "text": str(meta["error"]).splitlines()[0]})
     if cell is not None:
         data["cell"] = cell.config.name
         data["wires"] = _wires(watcher, cell, times)

@@ -116,6 +116,18 @@ def test_a_page_that_cannot_be_written_is_an_error(tmp_path, capsys, write):
     assert "Traceback" not in err
 
 
+def test_a_run_that_fails_says_so_at_the_top_of_its_page_and_last_on_its_timeline(tmp_path, capsys, write):
+    prog = write("fails.rcl", ARM_ALONE + "x := 1 / 0\n")
+    code = main(["run", str(prog), "--page", str(tmp_path / "p")])
+    _, err = capsys.readouterr()
+    assert code == 1
+    d = embedded(tmp_path / "p" / "index.html")
+    assert d["meta"]["error"] == err.strip() and "fails.rcl:9:" in err
+    last = d["timeline"][-1]
+    assert (last["kind"], last["ok"], last["text"]) == ("error", False, err.splitlines()[0])
+    assert [e["text"] for e in d["timeline"][:-1] if e["kind"] == "line"] == ["first: at the first pose", "second"]
+
+
 def test_the_repl_writes_the_page_of_its_session(tmp_path):
     from rcl.repl import Repl
 
@@ -229,7 +241,8 @@ def test_the_main_jobs_page_draws_in_a_browser(main_job, tmp_path):
 @pytest.mark.slow
 def test_the_page_of_an_arm_alone_draws_in_a_browser(tmp_path):
     _, watcher = arm_alone_run()
-    index = write_page(tmp_path, watcher, {"program": "arm.rcl"})
+    message = "arm.rcl:9:8: error: division by zero\n  x := 1 / 0\nthe robot was halted"
+    index = write_page(tmp_path, watcher, {"program": "arm.rcl", "error": message})
     with browser() as b:
         b.open(index)
         assert b.wait_for("document.body && document.body.dataset.view") == "drawn"
@@ -237,6 +250,7 @@ def test_the_page_of_an_arm_alone_draws_in_a_browser(tmp_path):
         assert _drew_arm(png, b.evaluate("(r => [r.left, r.top, r.width, r.height])(document.getElementById('view')"
                                          ".getBoundingClientRect())"))
         assert b.evaluate("document.querySelector('#current').textContent") == "This run made no look."
+        assert b.evaluate("document.querySelector('header pre.error').textContent") == message
         assert b.errors() == []
 
 
