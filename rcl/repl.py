@@ -38,6 +38,7 @@ COMMANDS = {
     ":page": ":page DIR       write DIR/index.html: this session's looks, picks and arm in 3D (needs rcl[page])",
     ":quit": ":quit          leave (as Ctrl-D does)",
 }
+KEPT_LOOKS = 50  # :page shows the pictures of the session's latest looks only (3 MB each in memory)
 _WORD = re.compile(r"[A-Za-z][A-Za-z0-9_]*\^?$")
 # what newcomers type to get help or to leave, taken so when no RCL name of theirs is spelt so
 PLAIN_WORDS = {"help": ":help", "help()": ":help", "exit": ":quit", "exit()": ":quit", "quit": ":quit",
@@ -108,7 +109,7 @@ class Repl:
                  err: TextIO | None = None) -> None:
         self.new_session = new_session
         self.session = new_session()
-        self.watcher = RunWatcher(self.session)  # what :page shows
+        self.watcher = RunWatcher(self.session, keep_last=KEPT_LOOKS)  # what :page shows
         self._out = out
         self.err = err  # where errors go; None: with the rest (the terminal)
         self.status = 0  # the worst error so far: 2 static, 1 at run time, 130 Ctrl-C
@@ -244,7 +245,7 @@ class Repl:
             self.say(self.page(arg) if arg else "usage: :page DIR")
         elif name == ":reset":
             self.session = self.new_session()
-            self.watcher = RunWatcher(self.session)
+            self.watcher = RunWatcher(self.session, keep_last=KEPT_LOOKS)
             self.say("a new session: every variable and routine is forgotten")
         else:
             self.say(f"unknown command {name}; :help lists them")

@@ -58,9 +58,10 @@ class RunWatcher:
         session.run_file("crimp.rcl")
         watcher.finish(report_path=None, pictures=None, page="out")   # or rcl.runpage.write_page
 
-    keep_images: keep each look's image and result (for pictures, frames and the page)."""
+    keep_images: keep each look's image and result (for pictures, frames and the page);
+    keep_last: keep the images of only so many of the latest looks (a long REPL session)."""
 
-    def __init__(self, session, keep_images: bool = True) -> None:
+    def __init__(self, session, keep_images: bool = True, keep_last: int | None = None) -> None:
         self.cell = cell = session.sim_cell
         self.session = session
         self.arm = getattr(session.robot, "inner", session.robot)  # the SimRobot behind a cell's arm
@@ -69,6 +70,7 @@ class RunWatcher:
         self.trays: list[TrayState] = []
         self.held: list[HeldState] = []
         self.keep_images = keep_images
+        self.keep_last = keep_last
         session.on_look = self._look
         session.out = _Tee(session.out, self._wrote)
         self._changes = -1
@@ -87,6 +89,8 @@ class RunWatcher:
         keep = self.keep_images
         number = self.cell.camera.grabs if self.cell is not None else len(self.looks) + 1
         self.looks.append(Look(number, image if keep else None, result if keep else None, ms, self.clock))
+        if self.keep_last is not None and len(self.looks) > self.keep_last:
+            self.looks[-self.keep_last - 1].image = None
         self._recorded("look")
         if self.cell is not None:
             self._tray_now()

@@ -273,3 +273,19 @@ def test_a_looks_frame_keeps_its_levels_whatever_the_cameras_numbers():
     for image in (grey, grey.astype(np.float32), want, (grey * 65535).round().astype(np.uint16)):
         got = np.asarray(frame_image(Look(1, image, None, 0.0)))
         assert np.abs(got.astype(int) - want).max() <= 1
+
+
+def test_a_long_session_keeps_the_pictures_of_its_latest_looks_only(tmp_path):
+    from rcl.vision import find_wires
+
+    s = Session(out=io.StringIO())
+    watcher = RunWatcher(s, keep_last=2)
+    image = np.full((128, 128), 0.5)
+    result = find_wires(image, "ridge", 4.0)
+    for _ in range(4):
+        s.on_look(image, result, 1.5)
+    assert [k.image is not None for k in watcher.looks] == [False, False, True, True]
+    d = embedded(write_page(tmp_path, watcher))
+    assert [("frame" in k, k["ms"]) for k in d["looks"]] == [(False, 1.5), (False, 1.5), (True, 1.5), (True, 1.5)]
+    assert sorted(p.name for p in (tmp_path / "looks").iterdir()) == [
+        "frame-003.jpg", "frame-004.jpg", "look-003.jpg", "look-004.jpg"]
