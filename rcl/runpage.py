@@ -9,6 +9,7 @@ script is copied beside the page, the pictures go into DIR/looks, and the run's 
 embedded in the page as JSON, which the page's own script (page.html) draws."""
 from __future__ import annotations
 
+import bisect
 import json
 import math
 import re
@@ -141,8 +142,8 @@ def _sample_joints(arm, moments: Sequence[float] = ()) -> tuple[list[float], lis
         for i in np.linspace(0, n - 1, k).round().astype(int)[1:]:
             qs.append(list(m.path[i]))
             times.append(m.start + (m.end - m.start) * i / max(n - 1, 1))
-    for t in sorted(moments, reverse=True):  # each after the samples at or before it
-        at = int(np.searchsorted(times, t, side="right"))
+    for t in moments:  # each after the samples at or before it, where the arm stood then
+        at = bisect.bisect_right(times, t)
         times.insert(at, t)
         qs.insert(at, qs[max(at - 1, 0)])
     return times, qs

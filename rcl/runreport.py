@@ -102,9 +102,8 @@ class RunWatcher:
     def _event(self, event) -> None:
         self._recorded("event")
         self._tray_now()
-        held = self.cell.held
-        last = self.held[-1]
-        if (held.wire if held is not None else None) != last.wire or (held is not None and held.shape is not last.shape):
+        held = self.cell.held  # a wire taken anew is a new Held with a shape of its own
+        if (held.shape if held else None) is not self.held[-1].shape:
             self.held.append(HeldState(event.time_s, held.wire if held else None, held.shape if held else None))
 
     def _recorded(self, kind: str) -> None:
