@@ -263,7 +263,10 @@ class EndReader:
                             0.45 * width])
         pts = end + steps[:, None, None] * out + lateral[None, :, None] * side
         flat_pts = pts.reshape(-1, 2)
-        if self.shadows:  # board in shadow beyond the tip is no conductor, unless a sharp ridge runs on it
+        # board in shadow beyond the tip is no conductor, unless a sharp ridge runs on it: where the
+        # wire casts shadows that can be told from it, and past an end lighter than the board (what
+        # runs on from it darker than the board and of the board's colour is its shadow)
+        if self.shadows or self.lighter(end, out):
             v, free, shade = self.shade(flat_pts)
             v = np.where(shade & (self.sample(flat_pts, self.FINE) < CONDUCTOR_RIDGE), free, v)
         else:
@@ -283,20 +286,31 @@ class EndReader:
             return end  # nothing that runs on far enough: the blur of the end itself, or its shadow
         if np.median(v[:run, 5:7].mean(axis=1) - board[:run]) > CONDUCTOR_NARROW * np.median(rise[:run]):
             return end  # as wide as the wire: the end's shadow or the blur of a rounded end
-        # its tip, as the insulation's: where its own contrast falls to TIP_SHARE of what it is
-        # along it; over half the window, as the dips are no gap (an average over a centred
-        # window crosses a step's half height where it steps)
+        # its tip, as the insulation's: where its contrast, averaged over the window, falls to
+        # TIP_SHARE of what it is along it over half the window (an average over a centred window
+        # crosses a step's half height where it steps; over less, the dips of a line thinner than two
+        # pixels fall below it well inside the conductor)
         short = ndimage.uniform_filter1d(rise, max(n // 2, 1), mode="nearest")
         own = float(np.median(short[:run]))
         edge = max(CONDUCTOR_CONTRAST, TIP_SHARE * own)
-        low = np.flatnonzero(short[:run] < edge)
+        low = np.flatnonzero(mean[:run] < edge)
         low = low[low >= n]  # not in the tip's own first window
         i = int(low[0]) if low.size else run
         if i >= run:
             return end + out * steps[run - 1]
-        a, b = short[i - 1], short[i]
+        a, b = mean[i - 1], mean[i]
         frac = float(np.clip((a - edge) / max(a - b, 1e-6), 0, 1))
         return end + out * (steps[i - 1] + frac * 0.5)
+
+    def lighter(self, end: np.ndarray, out: np.ndarray) -> bool:
+        """Whether the wire's last mm before end (out: out of the wire) is lighter than the board
+        there: its colour, projected on the board's, more than the board's."""
+        pts = end[None, :] - np.linspace(0.3, 1.0, 4)[:, None] * self.wppm * out[None, :]
+        at = _corners(self.h, self.w, pts)
+        p = _mix(self.con.work, *at).reshape(len(pts), -1)
+        b = _mix(self.con.board, *at).reshape(len(pts), -1)
+        light = (p * b).sum(axis=1) / np.maximum((b * b).sum(axis=1), 1e-9)
+        return bool(np.median(light) > 1.0)
 
     def recentred(self, line: np.ndarray, width: float) -> np.ndarray:
         """The centre line moved across the wire to the middle of its contrast (sub-pixel); the
