@@ -400,6 +400,64 @@ def test_ridge_on_randomized_trays_it_was_not_tuned_on():
     assert c["correct"] >= 33 and c["foul"] <= 4, c
 
 
+def _lattice_board(angle_deg: float, pitch_px: float, square: bool, rng) -> np.ndarray:
+    """Board noise with thin light lines pitch_px apart at angle_deg (and at 90 degrees to them
+    when square): a cutting mat's grid, or a grain, as a difference from the board."""
+    yy, xx = np.mgrid[0:300, 0:360].astype(np.float32)
+    a = math.radians(angle_deg)
+    lines = np.zeros(yy.shape, np.float32)
+    for turn in ((0.0, 90.0) if square else (0.0,)):
+        t = a + math.radians(turn)
+        u = (xx * math.cos(t) + yy * math.sin(t)) % pitch_px
+        lines = np.maximum(lines, np.clip(1.0 - np.minimum(u, pitch_px - u), 0.0, 1.0))
+    return (0.08 * lines + rng.normal(0.0, 0.01, yy.shape)).astype(np.float32)[..., None], lines > 0.5
+
+
+def test_a_mats_grid_is_taken_out_of_the_contrast_and_a_wire_across_it_kept():
+    from rcl.vision.ridge.lattice import without_lattice
+
+    rng = np.random.default_rng(3)
+    diff, on_grid = _lattice_board(17.0, 40.0, True, rng)  # a 10 mm grid at 4 px/mm, turned 17 degrees
+    wire = np.zeros(on_grid.shape, bool)
+    wire[140:148, 30:330] = True  # a 2 mm wire across it
+    diff[wire, 0] = -0.4
+    out, pairs = without_lattice(diff, 4.0)
+    assert pairs >= 6
+    from scipy import ndimage
+
+    grid = on_grid & ~ndimage.binary_dilation(wire, iterations=12)  # the grid away from the wire
+    # what is left on the grid lines, noise (0.008) included, is 0.41 of what was (1 without it;
+    # a grid turned off the pixel grid spreads each peak over neighbouring bins)
+    assert np.abs(out[grid, 0]).mean() < 0.5 * np.abs(diff[grid, 0]).mean()
+    assert abs(out[wire, 0].mean()) > 0.9 * 0.4
+
+
+@pytest.mark.parametrize("kind", ["grain", "jpeg blocks", "noise"])
+def test_no_lattice_is_seen_in_a_grain_jpeg_blocks_or_noise(kind):
+    from rcl.vision.ridge.lattice import without_lattice
+
+    rng = np.random.default_rng(4)
+    diff, _ = _lattice_board(17.0, 12.0, False, rng)  # parallel lines 3 mm apart, one way only
+    if kind == "jpeg blocks":  # a step at every 8th pixel both ways, as JPEG's blocks leave
+        yy, xx = np.mgrid[0:300, 0:360]
+        diff = (0.03 * ((yy % 8 == 0) | (xx % 8 == 0)) + rng.normal(0.0, 0.01, yy.shape)).astype(np.float32)[..., None]
+    elif kind == "noise":
+        diff = rng.normal(0.0, 0.01, diff.shape).astype(np.float32)
+    out, pairs = without_lattice(diff, 4.0)
+    assert pairs == 0 and out is diff
+
+
+@pytest.mark.slow
+def test_ridge_on_cutting_mats_at_seeds_it_was_not_tuned_on():
+    # the first 30 randomized trays on a cutting mat from seed 7200: measured 28 correct, 1 foul,
+    # 1 miss; without the mat's grid taken out, 24 / 4 / 2
+    seeds = [7205, 7214, 7218, 7224, 7234, 7248, 7256, 7263, 7266, 7267, 7282, 7289, 7293, 7304, 7305, 7335,
+             7336, 7337, 7338, 7340, 7382, 7391, 7392, 7395, 7409, 7414, 7423, 7435, 7455, 7488]
+    assert all(random_tray(s).scene.board == "mat" for s in seeds[:3])
+    c = first_picks("ridge", seeds)
+    assert c["correct"] >= 27 and c["foul"] <= 2, c
+
+
 @pytest.mark.slow
 def test_ridge_beats_the_papers_systems_on_randomized_trays():
     seeds = range(7100, 7120)

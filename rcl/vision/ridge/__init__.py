@@ -12,8 +12,9 @@ only when what lies around it can be seen to be bare board.
    lies beyond it is off the tray.
 2. Contrast: the board's colour is estimated per BOARD_BLOCK_MM block (the median,
    then the median of each 3 x 3 blocks, so blocks full of wire are outvoted) and
-   subtracted; each channel is divided by its own robust spread (noise and board
-   texture); the contrast F is the root mean square over the channels.
+   subtracted; a printed lattice (a cutting mat's grid) found in the spectrum and
+   taken out (lattice.py); each channel is divided by its own robust spread (noise
+   and board texture); the contrast F is the root mean square over the channels.
 3. Ridges: F smoothed at scales matched to wire diameters 0.8-3 mm; the Hessian's
    most negative eigenvalue, scale-normalised, is the ridge strength; each pixel
    keeps its best scale; non-maximum suppression across the ridge and hysteresis
@@ -117,7 +118,7 @@ def _look(image: np.ndarray, px_per_mm: float):
     clock("average")
     outside = find_rim(work, wppm)
     clock("rim")
-    con = contrast(work, wppm, outside)
+    con = contrast(work, wppm, outside, k)
     clock("contrast")
     flat = SATURATION * np.tanh(con.f * (1.0 / SATURATION))  # a wire's body, not its highlight, makes the ridge
     strength, smoothed, which, fine = ridges(flat, wppm)

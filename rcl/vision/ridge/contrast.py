@@ -9,6 +9,7 @@ import numpy as np
 
 from ...camera.images import ImageError
 from ..common import block_average
+from .lattice import without_lattice
 
 SHADOW_LIGHT = (0.55, 0.97)  # a shadow leaves this share of the board's light: darker is a thing, lighter is board
 SHADOW_TINT = 2.0  # ... and adds no more other colour than this (spreads)
@@ -49,11 +50,13 @@ class Contrast:
     unit: np.ndarray
 
 
-def contrast(work: np.ndarray, wppm: float, outside: np.ndarray | None = None) -> Contrast:
+def contrast(work: np.ndarray, wppm: float, outside: np.ndarray | None = None, k: int = 1) -> Contrast:
     """The contrast F: the board's colour estimated per BOARD_BLOCK_MM block (the median, then the
-    median of 3 x 3 blocks, so blocks full of wire are outvoted), subtracted, each channel divided
-    by its own robust spread, then the root mean square over the channels. Pixels `outside` the
-    tray (a rim, the bench round it) have no say in the board and no contrast."""
+    median of 3 x 3 blocks, so blocks full of wire are outvoted), subtracted, a printed lattice on
+    the board (a cutting mat's grid) taken out of the difference (lattice.py; k: input pixels per
+    working pixel), each channel divided by its own robust spread, then the root mean square over
+    the channels. Pixels `outside` the tray (a rim, the bench round it) have no say in the board
+    and no contrast."""
     from scipy import ndimage
 
     h, w, ch = work.shape
@@ -89,7 +92,7 @@ def contrast(work: np.ndarray, wppm: float, outside: np.ndarray | None = None) -
     under = np.empty_like(work)
     for c in range(ch):
         under[:, :, c] = ay @ board[:, :, c] @ ax.T
-    diff = work - under
+    diff, _ = without_lattice(work - under, wppm, k)
     sample = diff[::4, ::4].reshape(-1, ch)
     if outside is not None and outside.any() and not outside.all():
         sample = sample[~outside[::4, ::4].ravel()]
