@@ -274,6 +274,34 @@ def test_ridge_takes_an_end_near_a_rim_and_refuses_one_at_it(gap_mm, free):
         assert not near and any("tray's rim" in why for _, why in res.rejected)
 
 
+@pytest.mark.parametrize("off_at_mm, taken", [(26.0, True), (21.0, False)])
+def test_ridge_takes_an_end_whose_wire_leaves_the_frame_past_its_span_and_the_fingers_room(off_at_mm, taken):
+    """The ground truth asks the first 20 mm from the tip to lie inside the frame; the finder also
+    needs to see the fingers' room (4.6 mm) round the grasp point 15 mm along. A wire that leaves
+    the frame 26 mm from its end is taken (it was refused while the whole 31 mm traced past the
+    grasp point had to be inside); one that leaves it 21 mm from its end is refused (the span and
+    its slack, 22 mm, must lie 3 mm inside the frame)."""
+    image, centre, _ = straight_wire_image(0.0, tip_mm=(128.0 - off_at_mm, 60.0))
+    res = find_wires_ridge(image, 4.0)
+    near = [s for s in res.candidates if np.linalg.norm(np.array(s.end) / 4.0 - centre[0]) < 1.0]
+    if taken:
+        assert near, res.rejected
+    else:
+        assert not near and any("runs off the frame" in why for _, why in res.rejected), res.rejected
+
+
+def test_ridge_refuses_an_end_whose_fingers_room_is_not_all_in_sight():
+    """A wire lying 4 mm from the frame's edge, along it: its span is inside the frame, but part of
+    the 4.6 mm round its grasp point is not, and what is not seen is not known to be free."""
+    image, centre, _ = straight_wire_image(0.0, tip_mm=(40.0, 4.0))
+    res = find_wires_ridge(image, 4.0)
+    assert not [s for s in res.candidates if np.linalg.norm(np.array(s.end) / 4.0 - centre[0]) < 1.0]
+    assert any("runs off the frame" in why for _, why in res.rejected), res.rejected
+    image, centre, _ = straight_wire_image(0.0, tip_mm=(40.0, 6.0))  # 6 mm in: all in sight
+    res = find_wires_ridge(image, 4.0)
+    assert [s for s in res.candidates if np.linalg.norm(np.array(s.end) / 4.0 - centre[0]) < 1.0], res.rejected
+
+
 def test_the_cells_bench_round_the_tray_is_seen_as_off_the_tray():
     from rcl.cell import SimCell, load_config
 

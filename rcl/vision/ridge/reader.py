@@ -174,9 +174,15 @@ class EndReader:
         s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(full, axis=0), axis=1))])
         if s[-1] < SPAN_MM * mm * 0.98 and how != "far":
             return self.refuse(start, "too little wire past its end")
-        if np.any(full < border) or np.any(full[:, 0] > self.h - 1 - border) or np.any(full[:, 1] > self.w - 1 - border):
+        # what must be seen: the span (the ground truth's 20 mm, and the slack), and the fingers'
+        # room round the grasp point; what the wire does beyond that does not matter
+        seen = full[s <= (SPAN_MM + SPAN_SLACK_MM) * mm]
+        g0 = np.array([np.interp(GRASP_MM * mm, s, full[:, 0]), np.interp(GRASP_MM * mm, s, full[:, 1])])
+        room = CLEARANCE_MM * mm
+        if np.any(seen < border) or np.any(seen[:, 0] > self.h - 1 - border) or np.any(seen[:, 1] > self.w - 1 - border) \
+                or min(g0[0], g0[1], self.h - 1 - g0[0], self.w - 1 - g0[1]) < room:
             return self.refuse(start, "the wire runs off the frame near its end")
-        if self.off_tray(full, border).any():
+        if self.off_tray(seen, border).any() or self.off_tray(g0[None, :], room)[0]:
             return self.refuse(start, "the wire runs to the tray's rim near its end")
         head = full[(s >= TIP_FIT_MM[0] * mm) & (s <= TIP_FIT_MM[1] * mm)]
         if len(head) >= 3:  # the direction at the tip itself (a ridge may bend as it overshoots the end)
