@@ -26,7 +26,8 @@ LONGEST_MM = 30.0  # periods longer than this are the light's falloff and the bo
 
 
 def without_lattice(diff: np.ndarray, wppm: float, k: int = 1) -> tuple[np.ndarray, int]:
-    """(diff with a square lattice taken out, how many spectral peaks were; 0: none, diff itself).
+    """(diff with a square lattice taken out, how many of the lattice's peaks paired up; 0: no
+    lattice, and diff itself).
     diff: (rows, cols, channels) difference from the board on the working grid, wppm its px/mm,
     k the input pixels per working pixel (where JPEG's blocks fall)."""
     from scipy import ndimage

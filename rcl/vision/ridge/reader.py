@@ -177,19 +177,18 @@ class EndReader:
         # what must be seen: the span (the ground truth's 20 mm, and the slack), and the fingers'
         # room round the grasp point; what the wire does beyond that does not matter
         seen = full[s <= (SPAN_MM + SPAN_SLACK_MM) * mm]
-        g0 = np.array([np.interp(GRASP_MM * mm, s, full[:, 0]), np.interp(GRASP_MM * mm, s, full[:, 1])])
+        grasp = np.array([np.interp(GRASP_MM * mm, s, full[:, 0]), np.interp(GRASP_MM * mm, s, full[:, 1])])
         room = CLEARANCE_MM * mm
         if np.any(seen < border) or np.any(seen[:, 0] > self.h - 1 - border) or np.any(seen[:, 1] > self.w - 1 - border) \
-                or min(g0[0], g0[1], self.h - 1 - g0[0], self.w - 1 - g0[1]) < room:
+                or min(grasp[0], grasp[1], self.h - 1 - grasp[0], self.w - 1 - grasp[1]) < room:
             return self.refuse(start, "the wire runs off the frame near its end")
-        if self.off_tray(seen, border).any() or self.off_tray(g0[None, :], room)[0]:
+        if self.off_tray(seen, border).any() or self.off_tray(grasp[None, :], room)[0]:
             return self.refuse(start, "the wire runs to the tray's rim near its end")
         head = full[(s >= TIP_FIT_MM[0] * mm) & (s <= TIP_FIT_MM[1] * mm)]
         if len(head) >= 3:  # the direction at the tip itself (a ridge may bend as it overshoots the end)
             inward, on_axis = tip_axis(head, full[0])
         else:
             on_axis = full[0]
-        grasp = np.array([np.interp(GRASP_MM * mm, s, full[:, 0]), np.interp(GRASP_MM * mm, s, full[:, 1])])
         near = (s >= (GRASP_MM - TANGENT_MM) * mm) & (s <= (GRASP_MM + TANGENT_MM) * mm)
         tangent = principal_direction(full[near]) if near.sum() >= 3 else inward
         span = self.span(full, grasp, width)
