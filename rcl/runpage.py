@@ -14,6 +14,7 @@ import json
 import math
 import re
 import shutil
+from collections import Counter
 from collections.abc import Sequence
 from importlib import resources
 from pathlib import Path
@@ -71,7 +72,7 @@ def page_data(watcher: RunWatcher, meta: dict[str, Any], folder: Path | None) ->
     base, tool = _base_and_tool(cell)
     moments = [k.time_s for k in watcher.looks] + ([e.time_s for e in cell.events] if cell is not None else [])
     times, qs = _sample_joints(arm, moments)
-    samples = _samples(arm, times, qs, base, tool)
+    samples, hands = _samples(arm, times, qs, base, tool)
     looks = _looks(watcher, cell, folder)
     data: dict[str, Any] = {
         "meta": {k: v for k, v in meta.items() if v is not None},
@@ -89,7 +90,7 @@ def page_data(watcher: RunWatcher, meta: dict[str, Any], folder: Path | None) ->
     if cell is not None:
         data["cell"] = cell.config.name
         data["wires"] = _wires(watcher, cell, times)
-        data["held"] = _held(watcher, times, qs, base, tool)
+        data["held"] = _held(watcher, times, hands)
     return data
 
 
@@ -105,22 +106,25 @@ def _r(a) -> list:
     return np.round(np.asarray(a, float), 1).tolist()
 
 
-def _samples(arm, times: list[float], qs: list[list[float]], base: np.ndarray, tool: np.ndarray) -> dict[str, list]:
+def _samples(arm, times: list[float], qs: list[list[float]], base: np.ndarray,
+             tool: np.ndarray) -> tuple[dict[str, list], list[np.ndarray]]:
     """The arm drawn along its recorded path: for each sample its time, its links' origins (base
-    to flange, then the tool point) and a bar across the fingertips, in the world."""
+    to flange, then the tool point) and a bar across the fingertips, in the world; and the
+    tool's pose at each sample (world <- tool)."""
     from .robots.kinematics import frames
 
-    xs, ys, zs, tips = [], [], [], []
+    xs, ys, zs, tips, hands = [], [], [], [], []
     for q in qs:
         links = [np.eye(4), *frames(arm.model, q)]
         hand = base @ links[-1] @ tool
+        hands.append(hand)
         chain = np.array([(base @ f)[:3, 3] for f in links] + [hand[:3, 3]])
         bar = np.array([hand @ np.array([0.0, s * 6.0, 0.0, 1.0]) for s in (-1, 1)])[:, :3]
         xs.append([*_r(chain[:, 0]), None, *_r(bar[:, 0])])
         ys.append([*_r(chain[:, 1]), None, *_r(bar[:, 1])])
         zs.append([*_r(chain[:, 2]), None, *_r(bar[:, 2])])
         tips.append(_r(chain[-1]))
-    return {"t": [round(v, 3) for v in times], "x": xs, "y": ys, "z": zs, "tip": tips}
+    return {"t": [round(v, 3) for v in times], "x": xs, "y": ys, "z": zs, "tip": tips}, hands
 
 
 def _sample_joints(arm, moments: Sequence[float] = ()) -> tuple[list[float], list[list[float]]]:
@@ -176,13 +180,9 @@ def _summary(watcher: RunWatcher, report: dict | None) -> dict[str, Any]:
                          "motions": len(getattr(watcher.arm, "trajectory", []))}
     if report is None:
         return s
-    counts: dict[str, int] = {}
-    for outcome in report["results"].values():
-        counts[outcome] = counts.get(outcome, 0) + 1
-    reasons: dict[str, int] = {}
-    for f in report["failures"]:
-        reason = f"{f['what']}: " + re.sub(r"-?\d+(\.\d+)?", "N", f["why"] or "failed")
-        reasons[reason] = reasons.get(reason, 0) + 1
+    counts = Counter(report["results"].values())
+    reasons = Counter(f"{f['what']}: " + re.sub(r"-?\d+(\.\d+)?", "N", f["why"] or "failed")
+                      for f in report["failures"])
     s.update({"wires_total": report["wires_total"], "wires_left": report["wires_left"],
               "crimped": counts.get("crimped", 0), "tinned": counts.get("tinned", 0),
               "rejected": counts.get("rejected", 0), "lost": counts.get("lost", 0),
@@ -232,24 +232,21 @@ def _wires(watcher: RunWatcher, cell, times: list[float]) -> dict[str, Any]:
             widths[str(n)] = round(float(w.width), 2)
         states.append({"t": round(state.time_s, 3), "wires": drawn})
     starts = [s.time_s for s in watcher.trays]
-    at = [max(int(np.searchsorted(starts, t, side="right")) - 1, 0) for t in times]
+    at = [_state_at(starts, t) for t in times]
     numbers = sorted(colours, key=int)
     return {"numbers": numbers, "colour": colours, "width": widths, "states": states, "at": at}
 
 
-def _held(watcher: RunWatcher, times: list[float], qs: list[list[float]], base: np.ndarray,
-          tool: np.ndarray) -> list:
-    """For each sample, the held wire in the world ([number, x, y, z]) or None."""
-    from .robots.kinematics import fk
-
+def _held(watcher: RunWatcher, times: list[float], hands: list[np.ndarray]) -> list:
+    """For each sample (its time, the tool's pose), the held wire in the world ([number, x, y,
+    z]) or None."""
     starts = [h.time_s for h in watcher.held]
     out: list = []
-    for t, q in zip(times, qs):
-        h = watcher.held[max(int(np.searchsorted(starts, t, side="right")) - 1, 0)]
+    for t, pose in zip(times, hands):
+        h = watcher.held[_state_at(starts, t)]
         if h.wire is None or h.shape is None:
             out.append(None)
             continue
-        pose = base @ fk(watcher.arm.model, q) @ tool
         pts = (pose @ np.asarray(h.shape)[:, ::8])[:3]
         out.append([h.wire, _r(pts[0]), _r(pts[1]), _r(pts[2])])
     return out
@@ -287,10 +284,15 @@ def _static(watcher: RunWatcher, cell, times: list[float], tips: list, base: np.
     for e in cell.events:
         if e.what != "pick" or not tips:
             continue
-        i = max(int(np.searchsorted(times, e.time_s, side="right")) - 1, 0)
+        i = _state_at(times, e.time_s)
         picks.append({"at": tips[i], "ok": e.ok, "text": outcome_text(e), "look": watcher.look_number(e.look)})
     s["picks"] = picks
     return s
+
+
+def _state_at(starts: Sequence[float], t: float) -> int:
+    """The index of the last of the (sorted) start times at or before t; 0 if none is."""
+    return max(bisect.bisect_right(starts, t) - 1, 0)
 
 
 def _colour(level) -> str:
