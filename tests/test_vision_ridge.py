@@ -362,6 +362,49 @@ def test_ridge_refuses_an_end_cut_by_the_frame_and_one_crowded_by_another_wire()
     assert any(np.linalg.norm(np.array(s.end) / 4.0 - [48.0, 30.0]) < 1.0 for s in res.candidates)  # b's top is free
 
 
+def two_edges_image(starts_mm, sep_mm=2.4, body=0.87, angle=15.0, ppm=4.0, size=512):
+    """Two dark lines 0.6 mm wide, sep_mm apart (centre to centre), 70 mm long from starts_mm
+    along them, on a light board (0.85); between them, where both run, the grey `body` (None:
+    the board). With body, what a white wire on a white board shows: its two shaded sides.
+    Returns the image, the point halfway between the lines' starts (mm), along and across."""
+    from scipy import ndimage
+
+    d = np.array([math.cos(math.radians(angle)), math.sin(math.radians(angle))])
+    n = np.array([-d[1], d[0]])
+    yy, xx = np.mgrid[0:size, 0:size] / ppm
+    base = np.array([64.0, 64.0])
+    along = (xx - base[0]) * d[0] + (yy - base[1]) * d[1]
+    across = (xx - base[0]) * n[0] + (yy - base[1]) * n[1]
+    img = np.full((size, size), 0.85)
+    if body is not None:
+        img[(along >= max(starts_mm)) & (along <= 70.0) & (np.abs(across) < sep_mm / 2 - 0.3)] = body
+    for sign, start in zip((-1, 1), starts_mm):
+        img[(along >= start) & (along <= start + 70.0) & (np.abs(across - sign * sep_mm / 2) <= 0.3)] = 0.55
+    img = ndimage.gaussian_filter(img, 0.8) + np.random.default_rng(0).normal(0, 0.008, img.shape)
+    return np.clip(img, 0, 1).astype(np.float32), base, d, n
+
+
+def test_ridge_reads_a_wire_that_shows_only_its_two_edges_as_one_wire():
+    """Seen in the cell: a white wire on a white board stands out only by its shaded sides, two
+    thin lines; each line's end was refused for the other beside it or in the fingers' room, and
+    the wire was left on the tray. Two lines that end together are now one wire, taken between
+    them; two that end 5 mm apart are two things side by side, and neither end is taken."""
+    image, base, d, n = two_edges_image((0.0, 0.0))
+    res = find_wires_ridge(image, 4.0, enough=0)
+    near = [s for s in res.candidates if np.linalg.norm(np.array(s.end) / 4.0 - base) < 3.0]
+    assert near, res.rejected
+    for s in near:
+        end, grasp = np.array(s.end) / 4.0 - base, np.array(s.grasp) / 4.0 - base
+        assert abs(end @ d) < 0.6 and abs(end @ n) < 0.3  # the tip, between the lines
+        assert abs(grasp @ d - 15.0) < 0.6 and abs(grasp @ n) < 0.3
+        a = math.radians(s.end_angle)
+        assert np.dot([math.cos(a), math.sin(a)], d) > math.cos(math.radians(4))
+    image, base, d, n = two_edges_image((0.0, 5.0))
+    res = find_wires_ridge(image, 4.0, enough=0)
+    assert not [s for s in res.candidates if (np.array(s.end) / 4.0 - base) @ d < 20.0], res.candidates
+    assert sum(np.linalg.norm(np.array(uv) / 4.0 - base - t * d) < 3.0 for uv, _ in res.rejected for t in (0.0, 5.0)) >= 2
+
+
 def test_ridge_takes_the_end_with_the_most_room_round_it():
     # two free ends: a black wire's, with another running beside its first 6 mm, 3 mm from its
     # side (clear of the free test but close), read first (the stronger contrast), and a grey

@@ -28,7 +28,10 @@ only when what lies around it can be seen to be bare board.
    where the board begins; an end at the frame border, or whose contrast runs on
    (under another wire), is refused.
 6. Free: the board must show beside the whole span, beyond the tip, and in a
-   CLEARANCE_MM disc round the grasp point (room for the fingers).
+   CLEARANCE_MM disc round the grasp point (room for the fingers). An end refused
+   for something beside it or in that disc is read again as one edge of a wire whose
+   body does not stand out (a white wire on a white board: its two shaded sides), if
+   another line runs beside it at a steady distance and the two end together.
 7. The sighting: the tip; the direction into the wire at the tip, the chord of the
    centre line's TIP_FIT_MM nearest it (the tip put on that axis); the
    grasp point GRASP_MM along the centre line, centred across the wire; the tangent

@@ -1,6 +1,6 @@
 """Reading one end of a centre line: its tip, width, the room round it and the sighting.
 
-EndReader is about 400 lines, over the ~300 we hold classes to: reading an end is one chain
+EndReader is about 500 lines, over the ~300 we hold classes to: reading an end is one chain
 of steps (step 5-7 of the finder, see the package's docstring) over the same samplers of the
 contrast, the shadows and the rim, which the class holds for the image; split into several
 classes, each step would take the same half-dozen arrays again. Each method is one step."""
@@ -50,8 +50,12 @@ DISC_HITS = 4
 ROOM_BAND_MM = (1.0, 2.0, 3.0)  # the room round a free end: bands this far out from the wire's edges along the span
 ROOM_CAP_MM = (1.5, 3.0)  # ... arcs this far beyond its tip
 ROOM_PERCENTILE = 95.0  # ... each band and the disc round the grasp point judged by its nearly-highest contrast
+HOLLOW_MM = (0.8, 3.3)  # a wire whose body does not stand out (light on a board of its colour): its edges this far apart
+HOLLOW_END_MM = 1.5  # ... and they end together, to this much
 MIDDLE_THROUGH = 0.8  # a middle grasp: its line runs on this share of the way out of the disc round it, both ways
 MIDDLE_BOW = 0.5  # ... bowing from its tangent there by no more than this share of that
+BESIDE = "another wire or something lies beside it"
+NO_ROOM = "no room for the fingers at the grasp point"
 
 
 class EndReader:
@@ -109,7 +113,6 @@ class EndReader:
     def read(self, end: int):
         g, mm = self.g, self.wppm
         start = np.array(g.rc(end), float)
-        border = FRAME_MARGIN_MM * mm
         path, how = g.trace(end, (SPAN_MM + CLEARANCE_MM + 4.0) * mm * 1.1)  # past the disc round the grasp
         line = np.array([g.rc(i) for i in path], float)
         if len(line) >= 5:  # the pixel staircase smoothed, so arc lengths along it are true lengths
@@ -131,6 +134,28 @@ class EndReader:
         level = float(np.median(core))
         board = max(BOARD_FLOOR, BOARD_SHARE * level)
         width = self.width(line, board)
+        took = self.take(start, line, how, inward, level, board, width)
+        if took in (BESIDE, NO_ROOM):
+            # a light wire on a board of its own colour shows only its two edges: the line read may
+            # be one of them, and what lies beside it the other
+            other = self.other_edge(line, width, board)
+            if other is not None:
+                shift, gap = other
+                again = self.take(start + shift * _normals(line[:3])[0], line + shift * _normals(line), how,
+                                  inward, level, board, gap + width, gap)
+                if not isinstance(again, str):
+                    return again
+        if isinstance(took, str):
+            return self.refuse(start, took)
+        return took
+
+    def take(self, start, line, how, inward, level, board, width, gap=0.0):
+        """The Sighting of the end of centre line `line` (working px, from its end inward), or why
+        it is refused. gap: 0, or the distance between the two edges of a wire whose body does
+        not stand out (line then runs between them, and width spans both)."""
+        mm = self.wppm
+        border = FRAME_MARGIN_MM * mm
+        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(line, axis=0), axis=1))])
         self.shadows = self.casts_shadow(line, width)
         # the tip: from inside the wire, follow the contrast outward along the centre line and on
         # past the ridge's end (which smoothing may carry beyond the wire) to where it drops
@@ -142,38 +167,35 @@ class EndReader:
         scan = ext[inside][::-1]  # from TIP_START_MM in, outward
         scan_s = es[inside][::-1]
         side = np.array([-out[1], out[0]])
-        lateral = np.array([-0.25, 0.0, 0.25]) * width
-        ray = scan[:, None, :] + lateral[None, :, None] * side
-        along = self.around(ray.reshape(-1, 2)).reshape(len(scan), len(lateral)).max(axis=1)
-        thin = self.sample(ray.reshape(-1, 2), self.FINE).reshape(len(scan), len(lateral)).max(axis=1)
-        # the wire goes on while it stands out as the insulation does (shadows on the board do not
-        # count), or as a thin conductor does: a faint but sharp ridge on the axis (a shadow or a
-        # blur is faint and broad; tin or a ferrule may have the colour of a shadow)
-        conductor = (along >= BOARD_FLOOR) & (thin >= CONDUCTOR_RIDGE)
-        edge = max(BOARD_FLOOR, TIP_SHARE * level)
-        below = (along < edge) & ~conductor
-        along = np.where(conductor & (along < edge), edge, along)
-        gone = np.flatnonzero(below[:-1] & below[1:])
-        if not gone.size:
-            return self.refuse(start, "its contrast runs on past its end (under or into something)")
-        i = int(gone[0])
-        if i == 0:
-            return self.refuse(start, "no wire to be seen at its end")
-        a, b = along[i - 1], along[i]
-        frac = float(np.clip((a - edge) / max(a - b, 1e-6), 0, 1))
-        tip_s = scan_s[i - 1] + frac * (scan_s[i] - scan_s[i - 1])
+        if gap:
+            tip_s = self.edges_end(scan, scan_s, side, gap)
+        else:
+            lateral = np.array([-0.25, 0.0, 0.25]) * width
+            ray = scan[:, None, :] + lateral[None, :, None] * side
+            along = self.around(ray.reshape(-1, 2)).reshape(len(scan), len(lateral)).max(axis=1)
+            thin = self.sample(ray.reshape(-1, 2), self.FINE).reshape(len(scan), len(lateral)).max(axis=1)
+            # the wire goes on while it stands out as the insulation does (shadows on the board do
+            # not count), or as a thin conductor does: a faint but sharp ridge on the axis (a shadow
+            # or a blur is faint and broad; tin or a ferrule may have the colour of a shadow)
+            conductor = (along >= BOARD_FLOOR) & (thin >= CONDUCTOR_RIDGE)
+            edge = max(BOARD_FLOOR, TIP_SHARE * level)
+            tip_s = _drop(np.where(conductor & (along < edge), edge, along), scan_s, edge)
+        if isinstance(tip_s, str):
+            return tip_s
         tip = np.array([np.interp(tip_s, es, ext[:, 0]), np.interp(tip_s, es, ext[:, 1])])
         tip = self.conductor(tip, out, width)
         r, c = tip
         if r < border or c < border or r > self.h - 1 - border or c > self.w - 1 - border:
-            return self.refuse(start, "its end is at the frame's border")
+            return "its end is at the frame's border"
         if self.off_tray(tip[None, :], border)[0]:
-            return self.refuse(start, "its end is at the tray's rim")
+            return "its end is at the tray's rim"
         # the centre line from the tip, and the grasp point GRASP_MM along it
-        full = self.recentred(_resample(np.vstack([tip[None, :], ext[es > tip_s + 0.5]]), 1.0), width)
+        full = _resample(np.vstack([tip[None, :], ext[es > tip_s + 0.5]]), 1.0)
+        if not gap:  # (between two edges the middle is known)
+            full = self.recentred(full, width)
         s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(full, axis=0), axis=1))])
         if s[-1] < SPAN_MM * mm * 0.98 and how != "far":
-            return self.refuse(start, "too little wire past its end")
+            return "too little wire past its end"
         # what must be seen: the span (the ground truth's 20 mm, and the slack), and the fingers'
         # room round the grasp point; what the wire does beyond that does not matter
         seen = full[s <= (SPAN_MM + SPAN_SLACK_MM) * mm]
@@ -181,9 +203,9 @@ class EndReader:
         room = CLEARANCE_MM * mm
         if np.any(seen < border) or np.any(seen[:, 0] > self.h - 1 - border) or np.any(seen[:, 1] > self.w - 1 - border) \
                 or min(grasp[0], grasp[1], self.h - 1 - grasp[0], self.w - 1 - grasp[1]) < room:
-            return self.refuse(start, "the wire runs off the frame near its end")
+            return "the wire runs off the frame near its end"
         if self.off_tray(seen, border).any() or self.off_tray(grasp[None, :], room)[0]:
-            return self.refuse(start, "the wire runs to the tray's rim near its end")
+            return "the wire runs to the tray's rim near its end"
         head = full[(s >= TIP_FIT_MM[0] * mm) & (s <= TIP_FIT_MM[1] * mm)]
         if len(head) >= 3:  # the direction at the tip itself (a ridge may bend as it overshoots the end)
             inward, on_axis = tip_axis(head, full[0])
@@ -194,9 +216,10 @@ class EndReader:
         span = self.span(full, grasp, width)
         why = self.crowded(span, tip, out, width, board, level)
         if why:
-            return self.refuse(start, why)
+            return why
         clutter = self.clutter(span, tip, out, width, board)
-        grasp = self.centred(grasp, tangent, width)
+        if not gap:
+            grasp = self.centred(grasp, tangent, width)
         return self.sighting(on_axis, inward, grasp, tangent, 1.0 / (1.0 + clutter))
 
     def middle(self, p: np.ndarray, bow: float = MIDDLE_BOW):
@@ -235,6 +258,63 @@ class EndReader:
             return None
         room = float(np.percentile(seen, ROOM_PERCENTILE)) / board if len(seen) else 0.0
         return self.sighting(p, tangent, p, tangent, 1.0 / (1.0 + room))
+
+    def edges_end(self, scan: np.ndarray, scan_s: np.ndarray, side: np.ndarray, gap: float) -> float | str:
+        """Where the first of a wire's two edges ends, `gap` apart either side of `scan` (a line
+        from inside the wire out past its end; scan_s: arc length along it), each where its
+        contrast falls to TIP_SHARE of its own along the wire: the edge on the side the light
+        comes from ends with the wire, the other runs on into the shadow the end casts. Or why
+        there is no such end."""
+        mm = self.wppm
+        ends: list[float] = []
+        for sign in (-1.0, 1.0):
+            lateral = sign * gap / 2 + np.array([-0.3, 0.0, 0.3]) * mm
+            ray = scan[:, None, :] + lateral[None, :, None] * side
+            along = self._seen(ray.reshape(-1, 2), False).reshape(len(scan), len(lateral)).max(axis=1)
+            on = scan_s >= 2.0 * mm
+            level = float(np.median(along[on])) if on.any() else 0.0
+            if level < BOARD_FLOOR:
+                return "no wire to be seen at its end"
+            end = _drop(along, scan_s, max(0.5 * BOARD_FLOOR, TIP_SHARE * level))
+            if isinstance(end, str):
+                return end
+            ends.append(end)
+        if abs(ends[0] - ends[1]) > HOLLOW_END_MM * mm:  # not one wire's edges: two wires side by side
+            return BESIDE
+        return max(ends)
+
+    def other_edge(self, line: np.ndarray, width: float, board: float) -> tuple[float, float] | None:
+        """For a line that may be one edge of a wire whose body hardly stands out (a white wire on
+        a white board shows as two dark lines, its shaded sides): (the shift along the line's
+        normals to halfway to the other edge, the distance between the edges), or None. The
+        other edge must run beside the line, on one side only, at a distance within HOLLOW_MM
+        that stays the same (to 0.8 mm), from SPAN_MM in to the line's first mm, with no more
+        than the board's contrast between them."""
+        mm = self.wppm
+        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(line, axis=0), axis=1))])
+        idx = np.searchsorted(arc, np.linspace(1.0, SPAN_MM, 10) * mm).clip(0, len(line) - 1)
+        n = _normals(line)[idx]
+        offs = np.arange(0.0, HOLLOW_MM[1] * mm + 0.01, 0.5)
+        far = int(np.searchsorted(offs, HOLLOW_MM[0] * mm))
+        found = []
+        for sign in (-1.0, 1.0):
+            pts = line[idx][:, None, :] + sign * offs[None, :, None] * n[:, None, :]
+            prof = self._seen(pts.reshape(-1, 2), False).reshape(len(idx), len(offs))
+            j = far + np.argmax(prof[:, far:], axis=1)
+            rows = np.arange(len(idx))
+            peak = prof[rows, j]
+            valley = np.array([prof[r, 1:max(jr, 2)].min() for r, jr in zip(rows, j)])
+            ok = (peak >= board) & (valley < board) & (valley < 0.5 * peak)
+            found.append((int(ok.sum()), sign, offs[j]))
+        (n_a, _, _), (n_b, _, _) = found
+        best = max(found, key=lambda f: f[0])
+        if best[0] < len(idx) or min(n_a, n_b) > len(idx) // 2:
+            return None
+        d = best[2]
+        if float(d.max() - d.min()) > 0.8 * mm:
+            return None
+        gap = float(np.median(d))
+        return best[1] * gap / 2.0, gap
 
     def casts_shadow(self, line: np.ndarray, width: float) -> bool:
         """Whether the wire casts a shadow that can be told from it: its own centre line does not
@@ -422,11 +502,11 @@ class EndReader:
         if runs.shape[0] >= need:  # a run of `need` hits down any one column
             c = np.cumsum(np.vstack([np.zeros((1, runs.shape[1]), int), runs]), axis=0)
             if int((c[need:] - c[:-need]).max()) >= need:
-                return "another wire or something lies beside it"
+                return BESIDE
         if np.count_nonzero(hit[nb:nb + nc]) >= CAP_HITS:
             return "something lies just beyond its end"
         if np.count_nonzero(hit[nb + nc:]) >= DISC_HITS:
-            return "no room for the fingers at the grasp point"
+            return NO_ROOM
         return ""
 
     def clutter(self, span, tip, out, width, board) -> float:
@@ -450,13 +530,14 @@ class EndReader:
             worst.append(np.percentile(self._seen(disc), ROOM_PERCENTILE))
         return float(max(worst)) / board
 
-    def _seen(self, pts: np.ndarray) -> np.ndarray:
-        """around() at the points; nothing where they fall off the image or within RIM_EDGE_MM of a
-        rim or the bench round the tray (which is neither board nor a thing there)."""
+    def _seen(self, pts: np.ndarray, shadows: bool = True) -> np.ndarray:
+        """around() at the points (or F, if not shadows); nothing where they fall off the image or
+        within RIM_EDGE_MM of a rim or the bench round the tray (which is neither board nor a thing
+        there)."""
         inside = (pts[:, 0] >= 0) & (pts[:, 1] >= 0) & (pts[:, 0] <= self.h - 1) & (pts[:, 1] <= self.w - 1)
         if self.rim is not None:
             inside &= ~self.off_tray(pts, RIM_EDGE_MM * self.wppm)
-        return np.where(inside, self.around(pts), 0.0)
+        return np.where(inside, self.around(pts) if shadows else self.sample(pts), 0.0)
 
     def centred(self, grasp, tangent, width) -> np.ndarray:
         """The grasp point moved across the wire to the middle of its contrast."""
@@ -478,6 +559,21 @@ class EndReader:
         end_angle = math.degrees(math.atan2(inward[0], inward[1]))
         grasp_angle = math.degrees(math.atan2(tangent[0], tangent[1])) % 180.0
         return Sighting(to_input(tip), end_angle, to_input(grasp), grasp_angle, score)
+
+
+def _drop(along: np.ndarray, scan_s: np.ndarray, edge: float) -> float | str:
+    """Where `along` (contrast sampled outward from inside a wire, at arc lengths scan_s) first
+    falls below `edge` for two samples running, between samples; or why it does not."""
+    below = along < edge
+    gone = np.flatnonzero(below[:-1] & below[1:])
+    if not gone.size:
+        return "its contrast runs on past its end (under or into something)"
+    i = int(gone[0])
+    if i == 0:
+        return "no wire to be seen at its end"
+    a, b = along[i - 1], along[i]
+    frac = float(np.clip((a - edge) / max(a - b, 1e-6), 0, 1))
+    return float(scan_s[i - 1] + frac * (scan_s[i] - scan_s[i - 1]))
 
 
 def tip_axis(head: np.ndarray, tip: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
