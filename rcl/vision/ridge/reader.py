@@ -141,8 +141,9 @@ class EndReader:
             other = self.other_edge(line, width, board)
             if other is not None:
                 shift, gap = other
-                again = self.take(start + shift * _normals(line[:3])[0], line + shift * _normals(line), how,
-                                  inward, level, board, gap + width, gap)
+                middle = line + shift * _normals(line)
+                again = self.take(start + shift * _normals(line[:3])[0], middle, how, inward, level, board,
+                                  self.width(middle, board, gap), gap)
                 if not isinstance(again, str):
                     return again
         if isinstance(took, str):
@@ -420,9 +421,10 @@ class EndReader:
         out[0] = out[1] + ahead * float(np.linalg.norm(line[0] - line[1]))
         return out
 
-    def width(self, line: np.ndarray, board: float) -> float:
+    def width(self, line: np.ndarray, board: float, bridge: float = 0.0) -> float:
         """The wire's width (working px): across it at five places, how far its contrast stands
-        above the board (and above 0.4 of its peak) without a break, the median."""
+        above the board (and above 0.4 of its peak) without a break (none narrower than BRIDGE_MM,
+        or than `bridge` px if more), the median."""
         if len(line) < 8:
             return 2.0
         idx = np.linspace(len(line) // 4, len(line) - 2, 5).astype(int)
@@ -437,7 +439,7 @@ class EndReader:
         above = prof >= np.maximum(0.4 * peak, board)
         # a break narrower than BRIDGE_MM is no edge: the specular line along a glossy wire (it may
         # be as light as the board), or a grain
-        above = _bridged(above, int(round(BRIDGE_MM * self.wppm / 0.5)))
+        above = _bridged(above, int(round(max(BRIDGE_MM * self.wppm, bridge) / 0.5)))
         # in each row, the run of `above` through the sample nearest the centre line that is in it
         window = above[:, mid - 3:mid + 4]
         seen = window.any(axis=1)
