@@ -298,13 +298,13 @@ class EndReader:
         offs = np.arange(0.0, HOLLOW_MM[1] * mm + 0.01, 0.5)
         far = int(np.searchsorted(offs, HOLLOW_MM[0] * mm))
         found = []
+        at = np.arange(len(offs))[None, :]
         for sign in (-1.0, 1.0):
             pts = line[idx][:, None, :] + sign * offs[None, :, None] * n[:, None, :]
             prof = self._seen(pts.reshape(-1, 2), False).reshape(len(idx), len(offs))
-            j = far + np.argmax(prof[:, far:], axis=1)
-            rows = np.arange(len(idx))
-            peak = prof[rows, j]
-            valley = np.array([prof[r, 1:max(jr, 2)].min() for r, jr in zip(rows, j)])
+            j = far + np.argmax(prof[:, far:], axis=1)  # the other edge: the most contrast far enough out
+            peak = prof[np.arange(len(idx)), j]
+            valley = np.where((at >= 1) & (at < np.maximum(j, 2)[:, None]), prof, np.inf).min(axis=1)  # between
             ok = (peak >= board) & (valley < board) & (valley < 0.5 * peak)
             found.append((int(ok.sum()), sign, offs[j]))
         (n_a, _, _), (n_b, _, _) = found
