@@ -119,7 +119,7 @@ class EndReader:
             from scipy import ndimage
 
             line = ndimage.uniform_filter1d(line, 5, axis=0, mode="nearest")
-        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(line, axis=0), axis=1))])
+        arc = _arc(line)
         if how == "crossing" and arc[-1] < SPAN_MM * mm:
             return self.refuse(start, f"it meets another line {arc[-1] / mm:.0f} mm from its end")
         if how == "end" and arc[-1] < SPAN_MM * mm:
@@ -138,11 +138,12 @@ class EndReader:
         if took in (BESIDE, NO_ROOM):
             # a light wire on a board of its own colour shows only its two edges: the line read may
             # be one of them, and what lies beside it the other
-            other = self.other_edge(line, width, board)
+            other = self.other_edge(line, arc, width, board)
             if other is not None:
                 shift, gap = other
-                middle = line + shift * _normals(line)
-                again = self.take(start + shift * _normals(line[:3])[0], middle, how, inward, level, board,
+                n = _normals(line)
+                middle = line + shift * n
+                again = self.take(start + shift * n[0], middle, how, inward, level, board,
                                   self.width(middle, board, gap), gap)
                 if not isinstance(again, str):
                     return again
@@ -156,7 +157,7 @@ class EndReader:
         not stand out (line then runs between them, and width spans both)."""
         mm = self.wppm
         border = FRAME_MARGIN_MM * mm
-        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(line, axis=0), axis=1))])
+        arc = _arc(line)
         self.shadows = self.casts_shadow(line, width)
         # the tip: from inside the wire, follow the contrast outward along the centre line and on
         # past the ridge's end (which smoothing may carry beyond the wire) to where it drops
@@ -194,7 +195,7 @@ class EndReader:
         full = _resample(np.vstack([tip[None, :], ext[es > tip_s + 0.5]]), 1.0)
         if not gap:  # (between two edges the middle is known)
             full = self.recentred(full, width)
-        s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(full, axis=0), axis=1))])
+        s = _arc(full)
         if s[-1] < SPAN_MM * mm * 0.98 and how != "far":
             return "too little wire past its end"
         # what must be seen: the span (the ground truth's 20 mm, and the slack), and the fingers'
@@ -284,15 +285,14 @@ class EndReader:
             return BESIDE
         return max(ends)
 
-    def other_edge(self, line: np.ndarray, width: float, board: float) -> tuple[float, float] | None:
+    def other_edge(self, line: np.ndarray, arc: np.ndarray, width: float, board: float) -> tuple[float, float] | None:
         """For a line that may be one edge of a wire whose body hardly stands out (a white wire on
         a white board shows as two dark lines, its shaded sides): (the shift along the line's
         normals to halfway to the other edge, the distance between the edges), or None. The
         other edge must run beside the line, on one side only, at a distance within HOLLOW_MM
         that stays the same (to 0.8 mm), from SPAN_MM in to the line's first mm, with no more
-        than the board's contrast between them."""
+        than the board's contrast between them. arc: the arc length along line at its points."""
         mm = self.wppm
-        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(line, axis=0), axis=1))])
         idx = np.searchsorted(arc, np.linspace(1.0, SPAN_MM, 10) * mm).clip(0, len(line) - 1)
         n = _normals(line)[idx]
         offs = np.arange(0.0, HOLLOW_MM[1] * mm + 0.01, 0.5)
@@ -459,7 +459,7 @@ class EndReader:
         grasp point less the wire itself (clear of its centre line near the grasp point)."""
         mm = self.wppm
         dense = _resample(full, 1.0)
-        ds = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))])
+        ds = _arc(dense)
         along = ds <= (SPAN_MM + SPAN_SLACK_MM) * mm
         local = dense[np.abs(ds - GRASP_MM * mm) <= (CLEARANCE_MM + 3.0) * mm]
         disc = self.fingers_room(grasp, local, width)
@@ -627,10 +627,14 @@ def _normals(line: np.ndarray) -> np.ndarray:
     return np.column_stack([-t[:, 1], t[:, 0]])
 
 
+def _arc(pts: np.ndarray) -> np.ndarray:
+    """The arc length along a polyline at each of its points, from 0 at the first."""
+    return np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
+
+
 def _resample(pts: np.ndarray, step: float) -> np.ndarray:
     """A polyline sampled every `step` along it, up to (not past) its length: unlike
     synth.resample it never repeats the last point, so directions along it stay defined."""
-    seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
-    cum = np.concatenate([[0.0], np.cumsum(seg)])
+    cum = _arc(pts)
     s = np.arange(0.0, cum[-1] + 1e-9, step)
     return np.column_stack([np.interp(s, cum, pts[:, 0]), np.interp(s, cum, pts[:, 1])])
