@@ -405,6 +405,40 @@ def test_ridge_reads_a_wire_that_shows_only_its_two_edges_as_one_wire():
     assert sum(np.linalg.norm(np.array(uv) / 4.0 - base - t * d) < 3.0 for uv, _ in res.rejected for t in (0.0, 5.0)) >= 2
 
 
+def camouflage_image(wire=(0.10, 0.22, 0.16), ppm=4.0, size=512, seed=0):
+    """A board printed in two tones of blue, in blobs up to centimetres wide (camouflage), with
+    one dark green wire 2 mm thick, 70 mm straight, lying free. Returns the image and its two
+    ends (mm), each with its direction into the wire."""
+    from scipy import ndimage
+
+    rng = np.random.default_rng(seed)
+    blobs = ndimage.gaussian_filter(rng.normal(size=(size, size)), 4.0 * ppm) > 0
+    light, dark = np.array([0.40, 0.50, 0.80]), np.array([0.17, 0.25, 0.50])
+    img = np.where(blobs[..., None], light, dark)
+    yy, xx = np.mgrid[0:size, 0:size] / ppm
+    a, d = np.array([30.0, 40.0]), np.array([math.cos(math.radians(25)), math.sin(math.radians(25))])
+    along = (xx - a[0]) * d[0] + (yy - a[1]) * d[1]
+    across = -(xx - a[0]) * d[1] + (yy - a[1]) * d[0]
+    img[(along >= 0) & (along <= 70) & (np.abs(across) <= 1.0)] = wire
+    img = ndimage.gaussian_filter(img, (0.8, 0.8, 0)) + rng.normal(0, 0.01, img.shape)
+    return np.clip(img, 0, 1).astype(np.float32), [(a, d), (a + 70 * d, -d)]
+
+
+def test_ridge_sees_a_wire_on_a_board_printed_in_two_tones():
+    """Seen in the cell: on a camouflage-printed board the board's colour, taken as one per
+    region, is unlike most of its pixels; its spread drowned a dark wire, and the wire was left
+    on the tray. Such a board is now taken as two tones, and the wire's end is found."""
+    image, ends = camouflage_image()
+    res = find_wires_ridge(image, 4.0, enough=0)
+    assert res.candidates, res.rejected
+    s = res.candidates[0]
+    end = np.array(s.end) / 4.0
+    p, d = min(ends, key=lambda e: np.linalg.norm(e[0] - end))
+    assert np.linalg.norm(end - p) < 1.0
+    a = math.radians(s.end_angle)
+    assert np.dot([math.cos(a), math.sin(a)], d) > math.cos(math.radians(5))
+
+
 def test_ridge_takes_the_end_with_the_most_room_round_it():
     # two free ends: a black wire's, with another running beside its first 6 mm, 3 mm from its
     # side (clear of the free test but close), read first (the stronger contrast), and a grey

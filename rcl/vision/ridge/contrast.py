@@ -56,9 +56,60 @@ def contrast(work: np.ndarray, wppm: float, outside: np.ndarray | None = None, k
     the board (a cutting mat's grid) taken out of the difference (lattice.py; k: input pixels per
     working pixel), each channel divided by its own robust spread, then the root mean square over
     the channels. Pixels `outside` the tray (a rim, the bench round it) have no say in the board
-    and no contrast."""
-    from scipy import ndimage
+    and no contrast.
 
+    When nothing then stands out of the board (F's TONE_WHEN percentile is low), the board may be
+    printed in two tones whose mixture in each block makes the spread as large as a wire's
+    contrast (camouflage): it is then tried as two tones (_two_tones), and F taken from the tone
+    under each pixel."""
+    under = _board(work, wppm, outside)
+    diff, _ = without_lattice(work - under, wppm, k)
+    f, unit, spread = _in_spreads(diff, outside)
+    inside = f[::4, ::4] if outside is None else f[::4, ::4][~outside[::4, ::4]]
+    if inside.size and np.percentile(inside, TONE_WHEN[0]) < TONE_WHEN[1]:
+        # nothing stands out of the board: a board printed in two tones may drown the wires
+        tones = _two_tones(work, wppm, outside)
+        if tones is not None:
+            under = tones
+            diff, _ = without_lattice(work - under, wppm, k)
+            f, unit, _ = _in_spreads(diff, outside, np.maximum(TONE_SPREAD * spread, MIN_SPREAD))
+    return Contrast(f, work, under, unit)
+
+
+
+def _in_spreads(diff: np.ndarray, outside: np.ndarray | None,
+                least: float | np.ndarray = MIN_SPREAD) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(F: the difference from the board with each channel in units of its own robust spread (no
+    less than `least`), the root mean square over the channels; the factor per channel; the
+    spreads). diff is scaled in place."""
+    ch = diff.shape[2]
+    spread = np.maximum(_spread(diff, outside), least)
+    unit = (1.0 / (spread * np.sqrt(ch))).astype(np.float32)
+    diff *= unit
+    if ch == 1:
+        f = np.abs(diff[:, :, 0])
+    else:
+        f = diff[:, :, 0] * diff[:, :, 0]
+        for c in range(1, ch):
+            f += diff[:, :, c] * diff[:, :, c]
+        f = np.sqrt(f)
+    if outside is not None:
+        f[outside] = 0.0
+    return f, unit, spread
+
+
+def _board(work: np.ndarray, wppm: float, outside: np.ndarray | None) -> np.ndarray:
+    """The board's colour under each pixel: the median per BOARD_BLOCK_MM block of the pixels on
+    the tray, the median of 3 x 3 blocks (blocks full of wire are outvoted), enlarged bilinearly."""
+    blocks, grid = _block_medians(work, wppm, outside)
+    if np.isnan(blocks[..., 0]).all():  # (no tray in sight: all the frame's blocks)
+        blocks, grid = _block_medians(work, wppm, None)
+    return _enlarged(_filled(blocks), grid, work)
+
+
+def _block_medians(work: np.ndarray, wppm: float, skip: np.ndarray | None):
+    """(the median colour per BOARD_BLOCK_MM block of the pixels not in `skip`, NaN where there
+    are none; the blocks' geometry)."""
     h, w, ch = work.shape
     b = max(round(BOARD_BLOCK_MM * wppm), 4)
     nby, nbx = max(h // b, 1), max(w // b, 1)
@@ -71,45 +122,148 @@ def contrast(work: np.ndarray, wppm: float, outside: np.ndarray | None = None, k
         return sub.reshape(nby, sh, nbx, sw, -1).transpose(0, 2, 1, 3, 4).reshape(nby, nbx, sh * sw, -1)
 
     blocks = blocked(work)
-    if outside is not None and outside.any():
-        off = blocked(outside[..., None])[..., 0]
-        with warnings.catch_warnings():  # a block wholly off the tray has no median: NaN, filled below
+    if skip is not None and skip.any():
+        off = blocked(skip[..., None])[..., 0]
+        with warnings.catch_warnings():  # a block wholly skipped has no median: NaN
             warnings.simplefilter("ignore", RuntimeWarning)
             board = np.nanmedian(np.where(off[..., None], np.nan, blocks), axis=2)
-        empty = np.isnan(board[..., 0])
-        if empty.all():
-            board = np.median(blocks, axis=2)
-        elif empty.any():  # a block wholly off the tray takes the nearest block's board
-            idx = ndimage.distance_transform_edt(empty, return_distances=False, return_indices=True)
-            board = board[idx[0], idx[1]]
     else:
         board = np.median(blocks, axis=2)
-    if nby >= 3 and nbx >= 3:
+    return board, (nby, nbx, bh, bw)
+
+
+def _filled(board: np.ndarray) -> np.ndarray:
+    """Blocks with no median (not all) take the nearest block's, then the median of 3 x 3 blocks."""
+    from scipy import ndimage
+
+    empty = np.isnan(board[..., 0])
+    if empty.any():
+        idx = ndimage.distance_transform_edt(empty, return_distances=False, return_indices=True)
+        board = board[idx[0], idx[1]]
+    if board.shape[0] >= 3 and board.shape[1] >= 3:
         board = ndimage.median_filter(board, size=(3, 3, 1), mode="nearest")
-    # bilinear enlargement by two small matrix products per channel
+    return board
+
+
+def _enlarged(board: np.ndarray, grid, work: np.ndarray) -> np.ndarray:
+    """Block values enlarged bilinearly to the working grid (two small matrix products per channel)."""
+    nby, nbx, bh, bw = grid
+    h, w, ch = work.shape
     ay = _interp_matrix(h, nby, bh)
     ax = _interp_matrix(w, nbx, bw)
     under = np.empty_like(work)
     for c in range(ch):
         under[:, :, c] = ay @ board[:, :, c] @ ax.T
-    diff, _ = without_lattice(work - under, wppm, k)
-    sample = diff[::4, ::4].reshape(-1, ch)
+    return under
+
+
+TONE_WHEN = (99.5, 6.0)  # the board is tried as two tones when this percentile of F is less than this
+TONE_SPLIT = 3.0  # two tones: this many of their own spreads apart
+TONE_THICK_MM = 2.0  # ... each in places this far from the other (no wire is so wide)
+TONE_SHARE = 0.05  # ... in this share of the tray each
+TONE_EDGE_MM = 1.0  # ... and within this of a patch's edge, a colour between the two is board
+TONE_SPREAD = 0.5  # ... F's spread then no less than this share of the spread of the board as one colour
+
+
+def _two_tones(work: np.ndarray, wppm: float, outside: np.ndarray | None) -> np.ndarray | None:
+    """The board's colour under each pixel if the board is printed in two tones (camouflage: blobs
+    of two colours, many wider than any wire), else None.
+
+    The light across the tray is fitted as a smooth surface (a quadratic in each channel); what
+    is left is split along its main colour direction into a darker and a lighter tone (Otsu's
+    threshold on the middle 90 %, so that wires do not pull it). The board is two tones if they
+    lie TONE_SPLIT of their own spreads apart and each fills TONE_SHARE of the tray with places
+    TONE_THICK_MM from the other (no wire is so wide). Each tone's colour is then taken per block
+    from those places (where a block shows one tone only, the other is the same light on the
+    other's colour); the patches (those places grown back to their edges) take their tone, any
+    other pixel the tone nearer its colour, and within TONE_EDGE_MM of a patch's edge a colour
+    between the two (a blurred edge) is board."""
+    from scipy import ndimage
+
+    h, w, ch = work.shape
+    inside = np.ones((h, w), bool) if outside is None else ~outside
+    keep = inside[::4, ::4]
+    if keep.sum() < 200:
+        return None
+    rows, cols = np.mgrid[0:h:4, 0:w:4]
+    y, x = rows[keep] / h - 0.5, cols[keep] / w - 0.5
+    terms = np.column_stack([np.ones_like(x), x, y, x * x, x * y, y * y])
+    sample = work[::4, ::4][keep]
+    coef, *_ = np.linalg.lstsq(terms, sample, rcond=None)
+    rest = sample - terms @ coef
+    spread = np.maximum(1.4826 * np.median(np.abs(rest - np.median(rest, axis=0)), axis=0), MIN_SPREAD)
+    if ch > 1:
+        _, vecs = np.linalg.eigh(np.cov((rest / spread).T))
+        d = vecs[:, -1] / spread
+    else:
+        d = 1.0 / spread
+    u = rest @ d
+    p5, p95 = np.percentile(u, (5, 95))
+    middle = u[(u > p5) & (u < p95)]
+    t = _otsu(middle)
+    lo, hi = middle[middle < t], middle[middle >= t]
+    if len(lo) < 20 or len(hi) < 20:
+        return None
+    ml, mh = float(np.median(lo)), float(np.median(hi))
+    sl, sh = 1.4826 * np.median(np.abs(lo - ml)), 1.4826 * np.median(np.abs(hi - mh))
+    if mh - ml < TONE_SPLIT * float(np.sqrt(0.5 * (sl * sl + sh * sh))):
+        return None
+    # each pixel's tone: what is left of it after the light, along d, smoothed a little (noise
+    # must not hole a patch)
+    yy = (np.arange(h, dtype=np.float32) / h - 0.5)[:, None, None]
+    xx = (np.arange(w, dtype=np.float32) / w - 0.5)[None, :, None]
+    c = coef.astype(np.float32)
+    light = c[0] + xx * c[1] + yy * c[2] + xx * xx * c[3] + xx * yy * c[4] + yy * yy * c[5]
+    tone = ndimage.uniform_filter((work - light) @ d.astype(np.float32), 3)
+    low = (tone < t) & inside
+    high = (tone >= t) & inside
+    r = TONE_THICK_MM * wppm
+    thick_low = ndimage.distance_transform_edt(low) >= r
+    thick_high = ndimage.distance_transform_edt(high) >= r
+    n = max(int(inside.sum()), 1)
+    if thick_low.sum() < TONE_SHARE * n or thick_high.sum() < TONE_SHARE * n:
+        return None
+    patch_low = low & (ndimage.distance_transform_edt(~thick_low) <= r)
+    patch_high = high & (ndimage.distance_transform_edt(~thick_high) <= r)
+    lows, grid = _block_medians(work, wppm, ~thick_low)
+    highs, _ = _block_medians(work, wppm, ~thick_high)
+    both = ~np.isnan(lows[..., 0]) & ~np.isnan(highs[..., 0])
+    if both.sum() < 3:
+        return None
+    ratio = np.median(highs[both] / np.maximum(lows[both], 1e-4), axis=0)
+    lows = np.where(np.isnan(lows), highs / np.maximum(ratio, 1e-4), lows)
+    highs = np.where(np.isnan(highs), lows * ratio, highs)
+    a = _enlarged(_filled(lows), grid, work)
+    b = _enlarged(_filled(highs), grid, work)
+    nearer_low = ((work - a) ** 2).sum(axis=2) < ((work - b) ** 2).sum(axis=2)
+    under = np.where((patch_low | (nearer_low & ~patch_high))[..., None], a, b)
+    e = TONE_EDGE_MM * wppm
+    edge = ((ndimage.distance_transform_edt(~patch_low) <= e) | (ndimage.distance_transform_edt(~patch_high) <= e)) \
+        & (ndimage.distance_transform_edt(patch_low) <= e) & (ndimage.distance_transform_edt(patch_high) <= e)
+    if edge.any():
+        seg = b[edge] - a[edge]
+        f = np.clip(((work[edge] - a[edge]) * seg).sum(axis=1) / np.maximum((seg * seg).sum(axis=1), 1e-9), 0, 1)
+        under[edge] = a[edge] + f[:, None] * seg
+    return under
+
+
+def _spread(diff: np.ndarray, outside: np.ndarray | None) -> np.ndarray:
+    """Each channel's robust spread of a difference from the board (on the tray)."""
+    sample = diff[::4, ::4].reshape(-1, diff.shape[2])
     if outside is not None and outside.any() and not outside.all():
         sample = sample[~outside[::4, ::4].ravel()]
-    spread = np.maximum(1.4826 * np.median(np.abs(sample), axis=0), MIN_SPREAD)
-    unit = (1.0 / (spread * np.sqrt(ch))).astype(np.float32)
-    diff *= unit
-    if ch == 1:
-        f = np.abs(diff[:, :, 0])
-    else:
-        f = diff[:, :, 0] * diff[:, :, 0]
-        for c in range(1, ch):
-            f += diff[:, :, c] * diff[:, :, c]
-        f = np.sqrt(f)
-    if outside is not None:
-        f[outside] = 0.0
-    return Contrast(f, work, under, unit)
+    return 1.4826 * np.median(np.abs(sample), axis=0)
 
+
+def _otsu(u: np.ndarray) -> float:
+    hist, e = np.histogram(u, 128)
+    c = 0.5 * (e[:-1] + e[1:])
+    wsum = np.cumsum(hist)
+    msum = np.cumsum(hist * c)
+    W, M = wsum[-1], msum[-1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        between = (M * wsum / W - msum) ** 2 / (wsum * (W - wsum))
+    return float(c[np.nanargmax(between[:-1])])
 
 def shadow_free(con: Contrast, p: np.ndarray, b: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(F with what looks like the board in shadow counted as board, which points look so), given
