@@ -15,6 +15,12 @@ SHADOW_LIGHT = (0.55, 0.97)  # a shadow leaves this share of the board's light: 
 SHADOW_TINT = 2.0  # ... and adds no more other colour than this (spreads)
 MIN_SPREAD = 0.012  # the least board spread believed (3 grey levels): JPEG and sensor noise at the least
 BOARD_BLOCK_MM = 8.0  # blocks in which the board's colour is estimated
+TONE_WHEN = (99.5, 6.0)  # the board is tried as two tones when this percentile of F is less than this
+TONE_SPLIT = 3.0  # two tones: this many of their own spreads apart
+TONE_THICK_MM = 2.0  # ... each in places this far from the other (no wire is so wide)
+TONE_SHARE = 0.05  # ... in this share of the tray each
+TONE_EDGE_MM = 1.0  # ... and within this of a patch's edge, a colour between the two is board
+TONE_SPREAD = 0.5  # ... F's spread then no less than this share of the spread of the board as one colour
 
 
 def working_image(image: np.ndarray, px_per_mm: float) -> tuple[np.ndarray, int]:
@@ -76,7 +82,6 @@ def contrast(work: np.ndarray, wppm: float, outside: np.ndarray | None = None, k
     return Contrast(f, work, under, unit)
 
 
-
 def _in_spreads(diff: np.ndarray, outside: np.ndarray | None,
                 least: float | np.ndarray = MIN_SPREAD) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(F: the difference from the board with each channel in units of its own robust spread (no
@@ -107,7 +112,8 @@ def _board(work: np.ndarray, wppm: float, outside: np.ndarray | None) -> np.ndar
     return _enlarged(_filled(blocks), grid, work)
 
 
-def _block_medians(work: np.ndarray, wppm: float, skip: np.ndarray | None):
+def _block_medians(work: np.ndarray, wppm: float,
+                   skip: np.ndarray | None) -> tuple[np.ndarray, tuple[int, int, int, int]]:
     """(the median colour per BOARD_BLOCK_MM block of the pixels not in `skip`, NaN where there
     are none; the blocks' geometry)."""
     h, w, ch = work.shape
@@ -145,7 +151,7 @@ def _filled(board: np.ndarray) -> np.ndarray:
     return board
 
 
-def _enlarged(board: np.ndarray, grid, work: np.ndarray) -> np.ndarray:
+def _enlarged(board: np.ndarray, grid: tuple[int, int, int, int], work: np.ndarray) -> np.ndarray:
     """Block values enlarged bilinearly to the working grid (two small matrix products per channel)."""
     nby, nbx, bh, bw = grid
     h, w, ch = work.shape
@@ -155,14 +161,6 @@ def _enlarged(board: np.ndarray, grid, work: np.ndarray) -> np.ndarray:
     for c in range(ch):
         under[:, :, c] = ay @ board[:, :, c] @ ax.T
     return under
-
-
-TONE_WHEN = (99.5, 6.0)  # the board is tried as two tones when this percentile of F is less than this
-TONE_SPLIT = 3.0  # two tones: this many of their own spreads apart
-TONE_THICK_MM = 2.0  # ... each in places this far from the other (no wire is so wide)
-TONE_SHARE = 0.05  # ... in this share of the tray each
-TONE_EDGE_MM = 1.0  # ... and within this of a patch's edge, a colour between the two is board
-TONE_SPREAD = 0.5  # ... F's spread then no less than this share of the spread of the board as one colour
 
 
 def _two_tones(work: np.ndarray, wppm: float, outside: np.ndarray | None) -> np.ndarray | None:
