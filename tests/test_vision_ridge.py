@@ -179,9 +179,10 @@ def test_tags_name_what_the_draw_holds():
 # The ridge finder ----------------------------------------------------------------------------
 
 def straight_wire_image(angle_deg: float = 20.0, tip_mm=(40.0, 60.0), size=512, ppm=4.0, colour=False,
-                        radius_mm: float = math.inf, width_mm: float = 2.0, gloss: float = 0.0, board_grey=0.8):
+                        radius_mm: float = math.inf, width_mm: float = 2.0, gloss: float = 0.0, board_grey=0.8,
+                        under=None, wire_colour=None):
     """A wire (2 mm thick unless said) 70 mm long lying at angle_deg from its tip (bending along an
-    arc of radius_mm), on a plain board: its ground truth."""
+    arc of radius_mm), on a plain board (or on the board image `under`, colour): its ground truth."""
     from rcl.vision.scenes import Scene, WireLook, finish, paint
 
     d = np.array([math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg))])
@@ -192,9 +193,10 @@ def straight_wire_image(angle_deg: float = 20.0, tip_mm=(40.0, 60.0), size=512, 
     board = (0.25, 0.55, 0.3) if colour else (board_grey,) * 3
     scene = Scene(size, size, ppm, colour, 1, 1, ("straight",), (2.0, 2.0), ("red",), ("flat",), "plain", board,
                   0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 0.0, 0.0, 0.0, 0.01, 0, False, 0, 0.0, False)
-    colour_of = (0.75, 0.25, 0.2) if colour else (0.15, 0.15, 0.15)
+    colour_of = wire_colour or ((0.75, 0.25, 0.2) if colour else (0.15, 0.15, 0.15))
     look = WireLook("red" if colour else "black", colour_of, ("flat", "flat"), (0.0, 0.0), gloss)
-    under = np.broadcast_to(np.array(board, np.float32), (size, size, 3)).copy()
+    if under is None:
+        under = np.broadcast_to(np.array(board, np.float32), (size, size, 3)).copy()
     image = finish(scene, paint(scene, [wire], [look], under), np.random.default_rng(0))
     return image, centre, d
 
@@ -405,30 +407,22 @@ def test_ridge_reads_a_wire_that_shows_only_its_two_edges_as_one_wire():
     assert sum(np.linalg.norm(np.array(uv) / 4.0 - base - t * d) < 3.0 for uv, _ in res.rejected for t in (0.0, 5.0)) >= 2
 
 
-def camouflage_image(wire=(0.10, 0.22, 0.16), ppm=4.0, size=512, seed=0):
-    """A board printed in two tones of blue, in blobs up to centimetres wide (camouflage), with
-    one dark green wire 2 mm thick, 70 mm straight, lying free. Returns the image and its two
-    ends (mm), each with its direction into the wire."""
+def camouflage_board(ppm=4.0, size=512, seed=0):
+    """A board printed in two tones of blue, in blobs up to centimetres wide (camouflage)."""
     from scipy import ndimage
 
-    rng = np.random.default_rng(seed)
-    blobs = ndimage.gaussian_filter(rng.normal(size=(size, size)), 4.0 * ppm) > 0
-    light, dark = np.array([0.40, 0.50, 0.80]), np.array([0.17, 0.25, 0.50])
-    img = np.where(blobs[..., None], light, dark)
-    yy, xx = np.mgrid[0:size, 0:size] / ppm
-    a, d = np.array([30.0, 40.0]), np.array([math.cos(math.radians(25)), math.sin(math.radians(25))])
-    along = (xx - a[0]) * d[0] + (yy - a[1]) * d[1]
-    across = -(xx - a[0]) * d[1] + (yy - a[1]) * d[0]
-    img[(along >= 0) & (along <= 70) & (np.abs(across) <= 1.0)] = wire
-    img = ndimage.gaussian_filter(img, (0.8, 0.8, 0)) + rng.normal(0, 0.01, img.shape)
-    return np.clip(img, 0, 1).astype(np.float32), [(a, d), (a + 70 * d, -d)]
+    blobs = ndimage.gaussian_filter(np.random.default_rng(seed).normal(size=(size, size)), 4.0 * ppm) > 0
+    light, dark = np.array([0.40, 0.50, 0.80], np.float32), np.array([0.17, 0.25, 0.50], np.float32)
+    return np.where(blobs[..., None], light, dark)
 
 
 def test_ridge_sees_a_wire_on_a_board_printed_in_two_tones():
     """Seen in the cell: on a camouflage-printed board the board's colour, taken as one per
     region, is unlike most of its pixels; its spread drowned a dark wire, and the wire was left
     on the tray. Such a board is now taken as two tones, and the wire's end is found."""
-    image, ends = camouflage_image()
+    image, centre, d = straight_wire_image(25.0, (30.0, 40.0), colour=True, under=camouflage_board(),
+                                           wire_colour=(0.10, 0.22, 0.16))
+    ends = [(centre[0], d), (centre[-1], -d)]
     res = find_wires_ridge(image, 4.0, enough=0)
     assert res.candidates, res.rejected
     s = res.candidates[0]

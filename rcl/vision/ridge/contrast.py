@@ -254,6 +254,8 @@ def _spread(diff: np.ndarray, outside: np.ndarray | None) -> np.ndarray:
 
 
 def _otsu(u: np.ndarray) -> float:
+    """Otsu's threshold of the values u: the one of 128 bins that most separates the means of the
+    two sides, weighted by their counts."""
     hist, e = np.histogram(u, 128)
     c = 0.5 * (e[:-1] + e[1:])
     wsum = np.cumsum(hist)
@@ -262,6 +264,7 @@ def _otsu(u: np.ndarray) -> float:
     with np.errstate(divide="ignore", invalid="ignore"):
         between = (M * wsum / W - msum) ** 2 / (wsum * (W - wsum))
     return float(c[np.nanargmax(between[:-1])])
+
 
 def shadow_free(con: Contrast, p: np.ndarray, b: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(F with what looks like the board in shadow counted as board, which points look so), given
