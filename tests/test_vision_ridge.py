@@ -180,9 +180,10 @@ def test_tags_name_what_the_draw_holds():
 
 def straight_wire_image(angle_deg: float = 20.0, tip_mm=(40.0, 60.0), size=512, ppm=4.0, colour=False,
                         radius_mm: float = math.inf, width_mm: float = 2.0, gloss: float = 0.0, board_grey=0.8,
-                        under=None, wire_colour=None):
+                        under=None, wire_colour=None, light=(0.0, 0.0, 1.0)):
     """A wire (2 mm thick unless said) 70 mm long lying at angle_deg from its tip (bending along an
-    arc of radius_mm), on a plain board (or on the board image `under`, colour): its ground truth."""
+    arc of radius_mm), on a plain board (or on the board image `under`, colour), lit from `light`
+    (a unit vector toward the lamp): its ground truth."""
     from rcl.vision.scenes import Scene, WireLook, finish, paint
 
     d = np.array([math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg))])
@@ -192,7 +193,7 @@ def straight_wire_image(angle_deg: float = 20.0, tip_mm=(40.0, 60.0), size=512, 
     wire = Wire(centre, width_mm, 0, (0.1,))
     board = (0.25, 0.55, 0.3) if colour else (board_grey,) * 3
     scene = Scene(size, size, ppm, colour, 1, 1, ("straight",), (2.0, 2.0), ("red",), ("flat",), "plain", board,
-                  0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 0.0, 0.0, 0.0, 0.01, 0, False, 0, 0.0, False)
+                  0.0, (0.0, 0.0, 0.0), light, 0.0, 0.0, 0.0, 0.01, 0, False, 0, 0.0, False)
     colour_of = wire_colour or ((0.75, 0.25, 0.2) if colour else (0.15, 0.15, 0.15))
     look = WireLook("red" if colour else "black", colour_of, ("flat", "flat"), (0.0, 0.0), gloss)
     if under is None:
@@ -431,6 +432,24 @@ def test_ridge_sees_a_wire_on_a_board_printed_in_two_tones():
     assert np.linalg.norm(end - p) < 1.0
     a = math.radians(s.end_angle)
     assert np.dot([math.cos(a), math.sin(a)], d) > math.cos(math.radians(5))
+
+
+@pytest.mark.parametrize("ppm, light, angle", [(4.0, (0.7, 0.0, 0.71), 120.0), (6.0, (0.7, 0.0, 0.71), 135.0),
+                                                (8.0, (0.0, -0.7, 0.71), 150.0)])
+def test_ridge_takes_a_round_wires_faint_flank_for_the_wire_not_for_something_beside_it(ppm, light, angle):
+    """A glossy grey wire on a board of nearly its shade, lit from one side: its flank toward the
+    lamp is close to the board's shade and stands out only faintly, so its measured width leaves
+    that flank out; the flank was then seen beside the wire all along it, and the lone wire's end
+    was refused as having something beside it. It is now taken as the wire's own edge."""
+    image, centre, d = straight_wire_image(angle, tip_mm=(30.0, 30.0), ppm=ppm, width_mm=2.5, gloss=0.55,
+                                           board_grey=0.62, wire_colour=(0.53, 0.53, 0.53), light=light)
+    res = find_wires_ridge(image, ppm, enough=0)
+    near = [s for s in res.candidates if np.linalg.norm(np.array(s.end) / ppm - centre[0]) < 1.0]
+    assert near, res.rejected
+    a = math.radians(near[0].end_angle)  # (the shading biases the line toward the dark flank)
+    assert np.dot([math.cos(a), math.sin(a)], d) > math.cos(math.radians(10))
+    grasp = np.array(near[0].grasp) / ppm
+    assert abs(np.linalg.norm(grasp - centre[0]) - 15.0) < 1.0
 
 
 def test_ridge_takes_the_end_with_the_most_room_round_it():

@@ -45,6 +45,8 @@ BOARD_SHARE = 0.3  # ... and below this share of the wire's own contrast
 FADE_SHARE = 0.12  # straight past a tip, this share of the wire's contrast still means wire
 FADE_FLOOR = 2.5  # ... and so does this much (spreads): bare board beyond an end is darker than that
 RUN_MM = 0.6  # beside the span: contrast this long along the wire is something there
+EDGE_SHARE = 0.5  # ... unless only in the band nearest the wire, fainter than this share of it
+EDGE_SPREAD_MM = 5.0  # ... and spread along this much of the span at least (not one thing in one place)
 CAP_HITS = 3  # beyond the tip and round the grasp point: so many samples with contrast are something
 DISC_HITS = 4
 ROOM_BAND_MM = (1.0, 2.0, 3.0)  # the room round a free end: bands this far out from the wire's edges along the span
@@ -499,7 +501,25 @@ class EndReader:
             return "its contrast fades but goes on past its end"
         # beside the span, something that goes on for RUN_MM along it (a speck of the board's
         # texture or a thin printed line does not)
-        runs = hit[:nb].reshape(len(line), -1)
+        runs = hit[:nb].reshape(len(line), 2, 3).copy()
+        # but on a side where only the band nearest the wire sees anything, faint beside the wire
+        # and all along it, that is the wire's own edge (a round wire's flank of nearly the board's
+        # shade, which its width leaves out) or its soft shadow: another wire near enough to touch
+        # is wide enough to reach the bands further out too; and so is what lies that near the
+        # wire on that side in the disc round the grasp point
+        inner = values[:nb].reshape(len(line), 2, 3)[:, :, 0]
+        in_disc = hit[nb + nc:].copy()
+        for k in (0, 1):
+            rows = np.flatnonzero(runs[:, k, 0])
+            if not len(rows) or runs[:, k, 1:].any() or inner[:, k].max() >= EDGE_SHARE * level \
+                    or rows[-1] - rows[0] < EDGE_SPREAD_MM * mm:
+                continue
+            runs[:, k, 0] = False
+            if len(disc):
+                j = ((disc[:, None, :] - line[None, :, :]) ** 2).sum(axis=2).argmin(axis=1)
+                across = ((disc - line[j]) * n[j]).sum(axis=1) * (2 * k - 1)
+                in_disc &= ~((across > 0) & (across < offs[-1]))
+        runs = runs.reshape(len(line), -1)
         need = max(round(RUN_MM * mm), 2)
         if runs.shape[0] >= need:  # a run of `need` hits down any one column
             c = np.cumsum(np.vstack([np.zeros((1, runs.shape[1]), int), runs]), axis=0)
@@ -507,7 +527,7 @@ class EndReader:
                 return BESIDE
         if np.count_nonzero(hit[nb:nb + nc]) >= CAP_HITS:
             return "something lies just beyond its end"
-        if np.count_nonzero(hit[nb + nc:]) >= DISC_HITS:
+        if np.count_nonzero(in_disc) >= DISC_HITS:
             return NO_ROOM
         return ""
 
