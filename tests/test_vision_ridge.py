@@ -565,6 +565,18 @@ def test_no_lattice_is_seen_in_a_grain_jpeg_blocks_or_noise(kind):
     assert pairs == 0 and out is diff
 
 
+@pytest.mark.parametrize("seed", [4041, 4085])
+def test_ridge_measures_a_crossing_near_an_end_from_the_tip_not_from_where_the_ridge_stops(seed):
+    """Two randomized trays (of those the finder is developed on) whose first pick was a foul: a
+    wire whose centre line runs into a crossing just over 20 mm from where its ridge ends, which
+    smoothing carries past the wire's end; from the tip the crossing is under 20 mm, and the
+    ground truth says the other wire touches the span or lies on it. The crossing is now measured from the tip, and the
+    first pick is another end, and correct."""
+    tray = random_tray(seed)
+    res = find_wires(tray.image, "ridge", tray.px_per_mm)
+    assert tray.judge(res.candidates[0] if res.candidates else None)[0] == "correct"
+
+
 @pytest.mark.slow
 def test_ridge_on_cutting_mats_at_seeds_it_was_not_tuned_on():
     # the first 30 randomized trays on a cutting mat from seed 7200: measured 28 correct, 1 foul,

@@ -198,6 +198,9 @@ class EndReader:
         if not gap:  # (between two edges the middle is known)
             full = self.recentred(full, width)
         s = _arc(full)
+        if how == "crossing" and s[-1] < SPAN_MM * mm:  # (read() measured from the ridge's end, which
+            # smoothing may carry past the wire's; the span is measured from the tip)
+            return f"it meets another line {s[-1] / mm:.0f} mm from its end"
         if s[-1] < SPAN_MM * mm * 0.98 and how != "far":
             return "too little wire past its end"
         # what must be seen: the span (the ground truth's 20 mm, and the slack), and the fingers'
