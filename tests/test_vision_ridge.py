@@ -570,8 +570,8 @@ def test_ridge_measures_a_crossing_near_an_end_from_the_tip_not_from_where_the_r
     """Two randomized trays (of those the finder is developed on) whose first pick was a foul: a
     wire whose centre line runs into a crossing just over 20 mm from where its ridge ends, which
     smoothing carries past the wire's end; from the tip the crossing is under 20 mm, and the
-    ground truth says the other wire touches the span or lies on it. The crossing is now measured from the tip, and the
-    first pick is another end, and correct."""
+    ground truth says the other wire touches the span or lies on it. The crossing is now
+    measured from the tip, and the first pick is another end, and correct."""
     tray = random_tray(seed)
     res = find_wires(tray.image, "ridge", tray.px_per_mm)
     assert tray.judge(res.candidates[0] if res.candidates else None)[0] == "correct"

@@ -512,16 +512,19 @@ class EndReader:
         # wire on that side in the disc round the grasp point
         inner = values[:nb].reshape(len(line), 2, 3)[:, :, 0]
         in_disc = hit[nb + nc:].copy()
-        for k in (0, 1):
+        across = None  # each disc point's signed distance from the line, along its normal there
+        for k, sign in ((0, -1.0), (1, 1.0)):
             rows = np.flatnonzero(runs[:, k, 0])
             if not len(rows) or runs[:, k, 1:].any() or inner[:, k].max() >= EDGE_SHARE * level \
                     or rows[-1] - rows[0] < EDGE_SPREAD_MM * mm:
                 continue
             runs[:, k, 0] = False
             if len(disc):
-                j = ((disc[:, None, :] - line[None, :, :]) ** 2).sum(axis=2).argmin(axis=1)
-                across = ((disc - line[j]) * n[j]).sum(axis=1) * (2 * k - 1)
-                in_disc &= ~((across > 0) & (across < offs[-1]))
+                if across is None:
+                    j = ((disc[:, None, :] - line[None, :, :]) ** 2).sum(axis=2).argmin(axis=1)
+                    across = ((disc - line[j]) * n[j]).sum(axis=1)
+                on_side = sign * across
+                in_disc &= ~((on_side > 0) & (on_side < offs[-1]))
         runs = runs.reshape(len(line), -1)
         need = max(round(RUN_MM * mm), 2)
         if runs.shape[0] >= need:  # a run of `need` hits down any one column
