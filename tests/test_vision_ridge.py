@@ -577,6 +577,35 @@ def test_ridge_measures_a_crossing_near_an_end_from_the_tip_not_from_where_the_r
     assert tray.judge(res.candidates[0] if res.candidates else None)[0] == "correct"
 
 
+@pytest.mark.parametrize("seed", [4108, 3275])
+def test_ridge_refuses_a_centre_line_that_turns_as_no_wire_bends(seed):
+    """Two randomized trays (of those the finder is developed on) whose first pick was a foul: the
+    trace from a wire's end ran on, past a junction, onto another wire whose end abuts it. A span
+    whose centre line turns by more than 40 degrees between 1.5 mm chords (a bend of radius about
+    2 mm, tighter than any wire drawn) 5 mm or more from the tip is refused, and the first pick is
+    another end, and correct."""
+    tray = random_tray(seed)
+    res = find_wires(tray.image, "ridge", tray.px_per_mm)
+    assert tray.judge(res.candidates[0] if res.candidates else None)[0] == "correct"
+    from rcl.vision.ridge.reader import _sharpest_turn
+
+    # the measure itself, at 4 px/mm on lines of 1 px steps: an arc of radius 4 mm (the tightest
+    # curl drawn) passes; a corner of 50 degrees 10 mm from the tip does not; nor does one 3 mm
+    # from the tip count (that is the tip's own hook, which tip_axis handles)
+    ppm = 4.0
+    angle = np.arange(0, 22.0 * ppm) / (4.0 * ppm)
+    arc = 4.0 * ppm * np.column_stack([np.cos(angle), np.sin(angle)])
+    assert _sharpest_turn(arc, np.arange(len(arc), dtype=float), ppm) is None
+    turn = math.radians(50.0)
+    for at_mm, found in ((10.0, True), (3.0, False)):
+        k = int(at_mm * ppm)
+        corner = np.vstack([np.column_stack([np.arange(0, k), np.zeros(k)]),
+                            [k - 1.0, 0.0] + np.arange(1, 90.0 - k)[:, None] * [math.cos(turn), math.sin(turn)]])
+        at = _sharpest_turn(corner, np.arange(len(corner), dtype=float), ppm)
+        assert (at is not None) == found
+        assert at is None or abs(at - k) <= 4.0
+
+
 @pytest.mark.slow
 def test_ridge_on_cutting_mats_at_seeds_it_was_not_tuned_on():
     # the first 30 randomized trays on a cutting mat from seed 7200: measured 28 correct, 1 foul,

@@ -23,6 +23,8 @@ if TYPE_CHECKING:
 
 CLEARANCE_MM = 4.6  # free board round the grasp point, from the centre line: the fingers' room
 SIDE_FREE_MM = 0.9  # free board beside the wire's edges along the span and beyond its tip
+KINK_DEG, KINK_MM, KINK_FROM_MM = 40.0, 1.5, 5.0  # a line turning more than this between chords this long,
+# past this far from the tip, turns at a junction onto another wire (no wire bends so tightly)
 SPAN_SLACK_MM = 2.0  # ... along the span and this much more: a wire crossing just past it touches it (tip and arc errors)
 SHADOW_LIKE_WIRE = 0.2  # a wire this much of whose centre line looks like shadow: shadows are not told from it
 SHADOW_SIDE = 0.3  # ... and one that casts one: so much of the board along one side of it looks like shadow
@@ -203,6 +205,10 @@ class EndReader:
             return f"it meets another line {s[-1] / mm:.0f} mm from its end"
         if s[-1] < SPAN_MM * mm * 0.98 and how != "far":
             return "too little wire past its end"
+        turn = _sharpest_turn(full, s, mm)
+        if turn is not None:  # no wire bends so: the trace ran on past a junction onto another
+            # wire whose end abuts this one (or along two wires lying together as one)
+            return f"its line turns sharply {turn / mm:.0f} mm from its end (a junction)"
         # what must be seen: the span (the ground truth's 20 mm, and the slack), and the fingers'
         # room round the grasp point; what the wire does beyond that does not matter
         seen = full[s <= (SPAN_MM + SPAN_SLACK_MM) * mm]
@@ -602,6 +608,23 @@ def _drop(along: np.ndarray, scan_s: np.ndarray, edge: float) -> float | str:
     a, b = along[i - 1], along[i]
     frac = float(np.clip((a - edge) / max(a - b, 1e-6), 0, 1))
     return float(scan_s[i - 1] + frac * (scan_s[i] - scan_s[i - 1]))
+
+
+def _sharpest_turn(full: np.ndarray, s: np.ndarray, mm: float) -> float | None:
+    """Where (arc length from the tip) the centre line `full` (1 px steps, arc lengths s) turns by
+    more than KINK_DEG between its chords KINK_MM long before and after a point, over the span and
+    its slack from KINK_FROM_MM on (the tip's own hook is tip_axis's), or None."""
+    w = max(int(round(KINK_MM * mm)), 2)
+    m = int(np.count_nonzero(s <= (SPAN_MM + SPAN_SLACK_MM) * mm))
+    i = np.arange(w, m - w)
+    i = i[s[i] >= KINK_FROM_MM * mm]
+    if not len(i):
+        return None
+    a = full[i] - full[i - w]
+    b = full[i + w] - full[i]
+    cos = (a * b).sum(axis=1) / np.maximum(np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-9)
+    k = int(np.argmin(cos))
+    return float(s[i[k]]) if cos[k] < math.cos(math.radians(KINK_DEG)) else None
 
 
 def tip_axis(head: np.ndarray, tip: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
