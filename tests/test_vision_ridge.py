@@ -606,6 +606,36 @@ def test_ridge_refuses_a_centre_line_that_turns_as_no_wire_bends(seed):
         assert at is None or abs(at - k) <= 4.0
 
 
+def test_ridge_graph_finds_the_end_of_a_line_that_ends_in_a_small_cross():
+    """A ridge's end that forks round a pixel can leave, once the whiskers are pruned, a small
+    cross at the line's end (four edge neighbours, no diagonals), whose pixels all have three
+    neighbours: no pixel is an end and the wire's end is never read (tray 4151: a white wire on
+    a black board, the only graspable end, missed). The cross's stubs beside the line go; the
+    one straight on is the end. A line that crosses another keeps its crossing."""
+    from rcl.vision.ridge.graph import Graph
+
+    sk = np.zeros((40, 60), bool)
+    sk[20, 10:50] = True  # a line from column 10 to 49
+    sk[18, 12] = sk[19, 13] = sk[21, 13] = sk[22, 13] = True  # the pruned fork's stubs round (20, 13)
+    sk[20, 12] = True
+    g = Graph(sk, 2.5)
+    g.prune_spurs()
+    ends = sorted(g.rc(int(i)) for i in g.ends())
+    assert ends[0][0] == 20 and ends[0][1] <= 12 and ends[-1] == (20, 49)
+    path, how = g.trace(int(g.ends()[0]), 100.0)
+    assert how == "end" and len(path) >= 37
+    # a true crossing of two long lines is left alone
+    sk = np.zeros((40, 60), bool)
+    sk[20, 5:55] = True
+    sk[2:38, 30] = True
+    g = Graph(sk, 2.5)
+    g.prune_spurs()
+    assert len(g.ends()) == 4 and g.skeleton[19, 30] and g.skeleton[21, 30]
+    tray = random_tray(4151)
+    res = find_wires(tray.image, "ridge", tray.px_per_mm)
+    assert tray.judge(res.candidates[0] if res.candidates else None)[0] == "correct"
+
+
 @pytest.mark.slow
 def test_ridge_on_cutting_mats_at_seeds_it_was_not_tuned_on():
     # the first 30 randomized trays on a cutting mat from seed 7200: measured 28 correct, 1 foul,

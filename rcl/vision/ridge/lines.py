@@ -138,7 +138,35 @@ def minimal(mask: np.ndarray) -> np.ndarray:
     h, w = mask.shape
     grid = np.pad(mask, 1).ravel()
     _cut_corners(grid, w + 2)
+    _trim_crosses(grid, w + 2)
     return grid.reshape(h + 2, w + 2)[1:-1, 1:-1].copy()
+
+
+def _trim_crosses(grid: np.ndarray, W: int) -> None:
+    """In place: a pixel whose four edge neighbours are set and whose diagonals are not (a small
+    cross, which thinning leaves where a ridge's end forks round a pixel) loses those of the four
+    that are stubs (nothing else beside them), but for the stub straight opposite a line's only
+    arm: that stub is the line's end. Without this a cross has no end pixel and a wire's end on it
+    is never read, and its stubs beside a line read as a crossing."""
+    arms = (-W, 1, W, -1)  # N, E, S, W
+    diagonals = (-W - 1, -W + 1, W - 1, W + 1)
+    on = np.flatnonzero(grid)
+    centre = np.ones(len(on), bool)
+    for o in arms:
+        centre &= grid[on + o]
+    for o in diagonals:
+        centre &= ~grid[on + o]
+    around = (-W - 1, -W, -W + 1, -1, 1, W - 1, W, W + 1)
+    for c in on[centre]:
+        cross = {c, *(c + a for a in arms)}
+        # an arm is a stub when nothing beside it lies beyond the cross
+        stub = [not any(grid[c + a + d] for d in around if c + a + d not in cross) for a in arms]
+        lines = [a for a, st in zip(arms, stub) if not st]
+        if not lines:
+            continue  # a cross on its own: too short to be read anyway
+        for a, st in zip(arms, stub):
+            if st and not (len(lines) == 1 and a == -lines[0]):
+                grid[c + a] = False
 
 
 def _cut_corners(grid: np.ndarray, W: int) -> None:
