@@ -23,8 +23,9 @@ if TYPE_CHECKING:
 
 CLEARANCE_MM = 4.6  # free board round the grasp point, from the centre line: the fingers' room
 SIDE_FREE_MM = 0.9  # free board beside the wire's edges along the span and beyond its tip
-KINK_DEG, KINK_MM, KINK_FROM_MM = 40.0, 1.5, 5.0  # a line turning more than this between chords this long,
-# past this far from the tip, turns at a junction onto another wire (no wire bends so tightly)
+KINK_DEG, KINK_MM, KINK_FROM_MM = 45.0, 2.5, 5.0  # a line turning more than this between chords this long,
+# past this far from the tip, turns at a junction onto another wire (no wire bends so tightly; a
+# striped wire's centre line weaves with its stripes, which over shorter chords looks as sharp)
 SPAN_SLACK_MM = 2.0  # ... along the span and this much more: a wire crossing just past it touches it (tip and arc errors)
 SHADOW_LIKE_WIRE = 0.2  # a wire this much of whose centre line looks like shadow: shadows are not told from it
 SHADOW_SIDE = 0.3  # ... and one that casts one: so much of the board along one side of it looks like shadow
