@@ -144,7 +144,7 @@ def minimal(mask: np.ndarray) -> np.ndarray:
 
 def _trim_crosses(grid: np.ndarray, W: int) -> None:
     """In place: a pixel whose four edge neighbours are set and whose diagonals are not (a small
-    cross, which thinning leaves where a ridge's end forks round a pixel) loses those of the four
+    cross, which pruning a ridge end's forked whiskers leaves, or thinning) loses those of the four
     that are stubs (nothing else beside them), but for the stub straight opposite a line's only
     arm: that stub is the line's end. Without this a cross has no end pixel and a wire's end on it
     is never read, and its stubs beside a line read as a crossing."""

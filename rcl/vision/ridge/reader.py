@@ -208,7 +208,7 @@ class EndReader:
             return "too little wire past its end"
         turn = _sharpest_turn(full, s, mm)
         if turn is not None:  # no wire bends so: the trace ran on past a junction onto another
-            # wire whose end abuts this one (or along two wires lying together as one)
+            # wire whose end abuts this one
             return f"its line turns sharply {turn / mm:.0f} mm from its end (a junction)"
         # what must be seen: the span (the ground truth's 20 mm, and the slack), and the fingers'
         # room round the grasp point; what the wire does beyond that does not matter
