@@ -577,10 +577,6 @@ def test_ridge_measures_a_crossing_near_an_end_from_the_tip_not_from_where_the_r
     assert tray.judge(res.candidates[0] if res.candidates else None)[0] == "correct"
 
 
-def _arc_of(line):
-    return np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(line, axis=0), axis=1))])
-
-
 @pytest.mark.parametrize("seed", [4108, 3275])
 def test_ridge_refuses_a_centre_line_that_turns_as_no_wire_bends(seed):
     """Two randomized trays (of those the finder is developed on) whose first pick was a foul: the
@@ -592,7 +588,7 @@ def test_ridge_refuses_a_centre_line_that_turns_as_no_wire_bends(seed):
     tray = random_tray(seed)
     res = find_wires(tray.image, "ridge", tray.px_per_mm)
     assert tray.judge(res.candidates[0] if res.candidates else None)[0] == "correct"
-    from rcl.vision.ridge.reader import _sharpest_turn
+    from rcl.vision.ridge.reader import _arc, _sharpest_turn
 
     # the measure itself, at 4 px/mm on lines of 1 px steps: an arc of radius 4 mm (the tightest
     # curl drawn) passes; a corner of 50 degrees 10 mm from the tip does not; nor does one 3 mm
@@ -605,7 +601,7 @@ def test_ridge_refuses_a_centre_line_that_turns_as_no_wire_bends(seed):
     # centre line, as measured in the cell) passes
     x = np.arange(0, 80.0)
     weave = np.column_stack([x, 1.1 * (2 * np.abs(2 * ((x / 12.0) % 1) - 1) - 1)])
-    assert _sharpest_turn(weave, _arc_of(weave), 3.66) is None
+    assert _sharpest_turn(weave, _arc(weave), 3.66) is None
     turn = math.radians(50.0)
     for at_mm, found in ((10.0, True), (3.0, False)):
         k = int(at_mm * ppm)

@@ -156,7 +156,7 @@ def _trim_crosses(grid: np.ndarray, W: int) -> None:
         centre &= grid[on + o]
     for o in diagonals:
         centre &= ~grid[on + o]
-    around = (-W - 1, -W, -W + 1, -1, 1, W - 1, W, W + 1)
+    around = [dr * W + dc for dr, dc in NEIGHBOURS]
     for c in on[centre]:
         cross = {c, *(c + a for a in arms)}
         # an arm is a stub when nothing beside it lies beyond the cross
