@@ -82,6 +82,56 @@ def test_leave_one_out_matches_refitting():
     assert report.loo_rms == pytest.approx(np.sqrt(np.mean(errs)), rel=1e-6)
 
 
+def _camera_grid(cam, noise_mm=0.0):
+    """A 6 x 6 calibration grid over +-90 mm seen by cam: ((u, v) px, (x, y) mm)."""
+    g = np.linspace(-90, 90, 6)
+    x, y = (a.ravel() for a in np.meshgrid(g, g))
+    u, v = cam.project(x, y, 0 * x)
+    xy = np.stack([x, y], 1) + RNG.normal(0, noise_mm, (len(x), 2))
+    return np.stack([u, v], 1), xy
+
+
+@pytest.mark.parametrize("bad", [(5,), (0,), (14,), (5, 30)])
+def test_calibration_leaves_out_a_marker_found_on_something_else(bad):
+    """A grid point whose marker was found elsewhere in the picture (as in the cell, a dark hole in
+    a loop of light wire taken for it) is left out, worst first; the warp is then as good as
+    without it, against the camera's own projection."""
+    from rcl.camera import Calibration
+
+    cam = PinholeCamera.over_tray(height_mm=600, tilt_deg=8, k1=-0.04)
+    uv, xy = _camera_grid(cam)
+    for i, to in zip(bad, ((235.0, 222.0), (330.0, 150.0))):
+        uv[i] = to  # the corner (0), an edge (5) or the middle (14)
+    cal = Calibration()
+    for p, q in zip(uv, xy):
+        cal.add_point(*p, *q)
+    rms = cal.fit()
+    assert sorted(i for i, _ in cal.left_out) == sorted(bad)
+    assert all(miss > 20 for _, miss in cal.left_out)
+    assert rms < 0.01 and cal.report.points == 36 - len(bad)
+    qx, qy = RNG.uniform(-85, 85, (2, 40))
+    qu, qv = cam.project(qx, qy, 0 * qx)
+    got = np.array([cal.warp(a, b)[:2] for a, b in zip(qu, qv)])
+    assert np.max(np.hypot(got[:, 0] - qx, got[:, 1] - qy)) < 0.05
+    plain, _ = BicubicWarp.fit(uv, xy)  # every point kept: off by millimetres
+    assert np.max(np.hypot(*(np.stack(plain(qu, qv), 1) - np.stack([qx, qy], 1)).T)) > 2.0
+
+
+def test_calibration_keeps_every_honest_point():
+    """Points only as far off as a real marker and arm are (0.3 mm, or none) are all kept."""
+    from rcl.camera import Calibration
+
+    cam = PinholeCamera.over_tray(height_mm=600, tilt_deg=8, k1=-0.04)
+    for noise in (0.0, 0.3):
+        for _ in range(5):
+            uv, xy = _camera_grid(cam, noise)
+            cal = Calibration()
+            for p, q in zip(uv, xy):
+                cal.add_point(*p, *q)
+            cal.fit()
+            assert cal.left_out == [] and cal.report.points == 36
+
+
 @pytest.mark.parametrize("uv, message", [
     (grid(3), "needs at least 16 points, not 9"),
     (np.stack([np.linspace(0, 500, 20), np.linspace(0, 300, 20)], 1), "lie on a line"),
@@ -277,6 +327,13 @@ def test_calibration_builtins_in_rcl(tmp_path, monkeypatch):
     t = Session(out=out)
     t.run(f"LOADWARP('w.json')\nq := WARP({float(u0)!r}, {float(v0)!r})")
     np.testing.assert_allclose(t["q"], s["p"], atol=1e-12)
+    lines[5] = "CALPOINT(250.5, 260.25, 90.0, -18.0)"  # a marker found somewhere else
+    out = io.StringIO()
+    s = Session(out=out)
+    s.run("\n".join(lines) + "\nrms := FITWARP()\n")
+    assert s["rms"] < 0.01
+    assert out.getvalue().startswith("FITWARP: point 6, (250.5, 260.2) px at (90, -18) mm, left out: "
+                                     "the other points put it ")
     with pytest.raises(RclRuntimeError, match="no camera model yet"):
         Session().run("p := WARP(1, 2)")
     with pytest.raises(RclRuntimeError, match="FITWARP: a bicubic warp has 16 terms"):

@@ -182,13 +182,19 @@ def test_the_tray_looks_as_the_randomized_generator_draws_it_from_its_seed():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("seed", [0, 1, 2, 3, 5])
-def test_the_marker_is_found_where_the_fingertips_are_on_any_tray(seed):
+@pytest.mark.parametrize("seed, points", [
+    (0, ()), (1, ()), (2, ()), (3, ()), (5, ()),
+    # the corner of the calibration grid: a dark hole inside a loop of light wire makes a more
+    # disc-like dark disc, and the wires' light ends and bends outdid the marker in the centre-surround
+    # response, so it was not among the candidates tried (the warp fitted to it was 11.6 mm off)
+    (707, ((290.0, 60.0),)),
+])
+def test_the_marker_is_found_where_the_fingertips_are_on_any_tray(seed, points):
     from rcl.camera import find_mark
 
     sim = SimCell(load_config(), seed=seed)
     sim.arm.close()
-    for x, y in ((300.0, -50.0), (350.0, 0.0), (400.0, 45.0)):
+    for x, y in points or ((300.0, -50.0), (350.0, 0.0), (400.0, 45.0)):
         send_tool(sim, grasp_at(x, y))
         u, v = find_mark(sim.camera.grab())
         pu, pv = sim.lens.project(*sim.tool()[:3, 3])

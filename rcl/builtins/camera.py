@@ -48,8 +48,15 @@ def calpoint(ctx: Context, u: float, v: float, x: float, y: float) -> None:
 
 
 def fitwarp(ctx: Context) -> float:
-    """FITWARP(): fit the bicubic warp to the points added; gives the RMS residual in mm."""
-    return float(_call("FITWARP", _model(ctx, "FITWARP").fit))
+    """FITWARP(): fit the bicubic warp to the points added; gives the RMS residual in mm of the
+    points kept. A point that the fit of the others misses grossly is left out, with a line saying so."""
+    model = _model(ctx, "FITWARP")
+    rms = float(_call("FITWARP", model.fit))
+    for i, miss in model.left_out:
+        u, v, x, y = model.points[i]
+        ctx.out.write(f"FITWARP: point {i + 1}, ({u:.1f}, {v:.1f}) px at ({x:g}, {y:g}) mm, left out: "
+                      f"the other points put it {miss:.1f} mm away\n")
+    return rms
 
 
 def _file(ctx: Context, name: str, path: str, writing: bool = False):

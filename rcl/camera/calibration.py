@@ -12,6 +12,10 @@ import numpy as np
 from . import fileformat
 from .models import BicubicWarp, CameraModelError, FitReport, LinearCamera
 
+OUTLIER_MM = 2.0  # a point the fit of the others misses by this much (mm) ...
+OUTLIER_TIMES = 10.0  # ... and by this many times the median point's miss: the marker was found on something else
+KEEP_AT_LEAST = 20  # points never left out below this many (the warp's 16 terms, and some to spare)
+
 
 class Calibration:
     """Correspondences (u, v) px <-> (x, y) mm on the tray plane z, and the fitted model."""
@@ -21,6 +25,7 @@ class Calibration:
         self.points: list[tuple[float, float, float, float]] = []
         self.model: BicubicWarp | LinearCamera | None = None
         self.report: FitReport | None = None
+        self.left_out: list[tuple[int, float]] = []  # (index into points, mm the others' fit misses it by)
 
     def add_point(self, u: float, v: float, x: float, y: float) -> None:
         values = np.array([u, v, x, y], dtype=float)
@@ -29,12 +34,33 @@ class Calibration:
         self.points.append((float(values[0]), float(values[1]), float(values[2]), float(values[3])))
 
     def fit(self) -> float:
-        """Fit the bicubic warp to the points added; the RMS residual in mm."""
+        """Fit the bicubic warp to the points added; the RMS residual in mm of the points kept.
+
+        A point that the fit of all the others misses grossly (by OUTLIER_MM and by OUTLIER_TIMES
+        the median point's miss: its leave-one-out residual) is left out, the worst first, one at
+        a time, while more than KEEP_AT_LEAST remain: where the marker finder took something else
+        for the marker (a dark hole in a loop of light wire), one such pair would pull the whole
+        warp off by millimetres. `left_out` says which were left out."""
         if not self.points:
             raise CameraModelError("no calibration points yet: add them with CALPOINT(u, v, x, y)")
         pts = np.array(self.points)
-        self.model, self.report = BicubicWarp.fit(pts[:, :2], pts[:, 2:], self.z)
-        return self.report.rms
+        kept = list(range(len(pts)))
+        self.left_out = []
+        model, report = BicubicWarp.fit(pts[:, :2], pts[:, 2:], self.z)
+        while report.loo is not None and len(kept) > KEEP_AT_LEAST:
+            worst = int(np.argmax(report.loo))
+            miss = float(report.loo[worst])
+            if miss < max(OUTLIER_MM, OUTLIER_TIMES * float(np.median(report.loo))):
+                break
+            rest = kept[:worst] + kept[worst + 1:]
+            try:
+                model, report = BicubicWarp.fit(pts[rest, :2], pts[rest, 2:], self.z)
+            except CameraModelError:  # (the others alone do not determine a warp: keep it)
+                break
+            self.left_out.append((kept[worst], miss))
+            kept = rest
+        self.model, self.report = model, report
+        return report.rms
 
     def save(self, path: str | Path) -> None:
         if self.model is None:

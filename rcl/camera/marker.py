@@ -30,8 +30,8 @@ MIN_FILL = 0.6  # blob area over the area of the circle of its largest extent
 MIN_CONTRAST = 8.0  # a disc stands out from its surround by this many times the pixel noise
 CENTRE = (3, 5)  # px: the centre boxes searched at each halving of the image (radii 1.5, 2.5 px there)
 SURROUND = (7, 11)  # px: the box each is set against, a ring about twice as wide as the centre
-PEAKS = 4  # the strongest peaks taken at each scale
-CANDIDATES = 12  # of those, the strongest tried per polarity
+PEAKS = 8  # the strongest peaks taken at each scale
+CANDIDATES = 24  # of those, the strongest tried per polarity (a light wire's ends and bends may outdo the marker)
 
 
 def find_mark(image: np.ndarray, polarity: str = "auto") -> tuple[float, float] | None:

@@ -38,6 +38,7 @@ class FitReport:
     loo_rms: float | None  # leave-one-out RMS; None when every point is needed
     residuals: np.ndarray = field(repr=False)  # (N, 2): model minus measured x, y
     condition: float = float("nan")  # condition number of the least-squares design
+    loo: np.ndarray | None = field(default=None, repr=False)  # (N,): each point's leave-one-out miss, mm
 
 
 # Checks shared by both fits -------------------------------------------------
@@ -200,11 +201,12 @@ class BicubicWarp:
 
 def _report(residuals: np.ndarray, hat: np.ndarray, cond: float) -> FitReport:
     d = np.hypot(residuals[:, 0], residuals[:, 1])
-    loo = None
+    loo, misses = None, None
     if np.all(hat < 1.0 - 1e-9):
         e = residuals / (1.0 - hat)[:, None]  # the residual each point would have, left out
-        loo = float(np.sqrt(np.mean(np.sum(e * e, axis=1))))
-    return FitReport(len(d), float(np.sqrt(np.mean(d * d))), float(d.max()), loo, residuals, cond)
+        misses = np.hypot(e[:, 0], e[:, 1])
+        loo = float(np.sqrt(np.mean(misses * misses)))
+    return FitReport(len(d), float(np.sqrt(np.mean(d * d))), float(d.max()), loo, residuals, cond, misses)
 
 
 # The linear (pinhole) camera -----------------------------------------------------
