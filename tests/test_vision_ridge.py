@@ -365,6 +365,47 @@ def test_ridge_refuses_an_end_cut_by_the_frame_and_one_crowded_by_another_wire()
     assert any(np.linalg.norm(np.array(s.end) / 4.0 - [48.0, 30.0]) < 1.0 for s in res.candidates)  # b's top is free
 
 
+def speckled_under(specks_mm, ppm=4.0, size=512, board=0.8, depth=0.45, sigma_mm=0.3, extra=()):
+    """A plain board with dark specks (Gaussian blobs, the randomized trays' speckled board) at
+    the points specks_mm, and `extra` dark discs ((x, y, radius) mm) or bars ((x0, y0, x1, y1, width) mm)."""
+    from scipy import ndimage
+
+    dots = np.zeros((size, size), np.float32)
+    for x, y in specks_mm:
+        dots[int(round(y * ppm)), int(round(x * ppm))] = 1.0
+    dots = ndimage.gaussian_filter(dots, sigma_mm * ppm)
+    tex = dots / dots.max() * depth
+    yy, xx = np.mgrid[0:size, 0:size] / ppm
+    for thing in extra:
+        if len(thing) == 3:
+            x, y, r = thing
+            tex = np.maximum(tex, depth * (np.hypot(xx - x, yy - y) <= r))
+        else:
+            x0, y0, x1, y1, w = thing
+            t = np.clip(((xx - x0) * (x1 - x0) + (yy - y0) * (y1 - y0)) / ((x1 - x0) ** 2 + (y1 - y0) ** 2), 0, 1)
+            tex = np.maximum(tex, 0.65 * (np.hypot(xx - x0 - t * (x1 - x0), yy - y0 - t * (y1 - y0)) <= w / 2))
+    return np.repeat((board - tex)[..., None], 3, axis=2).astype(np.float32)
+
+
+@pytest.mark.parametrize("extra, taken", [
+    ((), True),  # specks only: beside the span and in the fingers' room
+    (((76.0, 69.0, 1.6),), False),  # a thing 3.2 mm across beside the span (a screw, a blob of glue)
+    (((76.0, 65.9, 76.0, 90.0, 1.0),), False),  # another wire's end, 1 mm thick, reaching to 0.9 mm from the edge
+])
+def test_ridge_takes_an_end_with_specks_of_the_board_beside_it_but_not_one_with_a_thing_there(extra, taken):
+    """Specks on a speckled board, 1-2 mm across, are no obstacle to the wire or the fingers:
+    on trays 4032, 4561 and 4705 such specks beside a wire or round its grasp point left the only
+    free ends refused. Anything that could touch the wire and matter is larger, or goes on."""
+    tip = np.array([64.0, 64.0])
+    # the wire runs along +x from the tip, its edges at y = 63 and 65; specks 0.7 mm clear of them
+    specks = [(69.0, 66.3), (71.5, 61.7), (81.0, 66.4), (77.0, 61.6), (79.5, 68.0), (80.5, 60.2), (76.0, 67.6)]
+    under = speckled_under(specks, extra=extra)
+    image, centre, _ = straight_wire_image(0.0, tip_mm=tuple(tip), under=under)
+    res = find_wires_ridge(image, 4.0, enough=0)
+    ends = [np.array(s.end) / 4.0 for s in res.candidates]
+    assert any(np.linalg.norm(e - tip) < 0.6 for e in ends) == taken, res.rejected
+
+
 def two_edges_image(starts_mm, sep_mm=2.4, body=0.87, angle=15.0, ppm=4.0, size=512):
     """Two dark lines 0.6 mm wide, sep_mm apart (centre to centre), 70 mm long from starts_mm
     along them, on a light board (0.85); between them, where both run, the grey `body` (None:

@@ -1,6 +1,6 @@
 """Reading one end of a centre line: its tip, width, the room round it and the sighting.
 
-EndReader is about 500 lines, over the ~300 we hold classes to: reading an end is one chain
+EndReader is about 600 lines, over the ~300 we hold classes to: reading an end is one chain
 of steps (step 5-7 of the finder, see the package's docstring) over the same samplers of the
 contrast, the shadows and the rim, which the class holds for the image; split into several
 classes, each step would take the same half-dozen arrays again. Each method is one step."""
@@ -48,6 +48,8 @@ BOARD_SHARE = 0.3  # ... and below this share of the wire's own contrast
 FADE_SHARE = 0.12  # straight past a tip, this share of the wire's contrast still means wire
 FADE_FLOOR = 2.5  # ... and so does this much (spreads): bare board beyond an end is darker than that
 RUN_MM = 0.6  # beside the span: contrast this long along the wire is something there
+SPECK_MM = 2.0  # ... unless it is a speck of the board's texture: no larger than this across
+SPECK_TRACE = 0.5  # ... where its contrast is this share of the threshold for a thing there
 EDGE_SHARE = 0.5  # ... unless only in the band nearest the wire, fainter than this share of it
 EDGE_SPREAD_MM = 5.0  # ... and spread along this much of the span at least (not one thing in one place)
 CAP_HITS = 3  # beyond the tip and round the grasp point: so many samples with contrast are something
@@ -532,6 +534,7 @@ class EndReader:
                     across = ((disc - line[j]) * n[j]).sum(axis=1)
                 on_side = sign * across
                 in_disc &= ~((on_side > 0) & (on_side < offs[-1]))
+        self._drop_specks(runs, line, n, half, board, level)
         runs = runs.reshape(len(line), -1)
         need = max(round(RUN_MM * mm), 2)
         if runs.shape[0] >= need:  # a run of `need` hits down any one column
@@ -540,9 +543,71 @@ class EndReader:
                 return BESIDE
         if np.count_nonzero(hit[nb:nb + nc]) >= CAP_HITS:
             return "something lies just beyond its end"
+        if np.count_nonzero(in_disc) >= DISC_HITS:  # (specks there leave the fingers room)
+            grasp = line[np.argmin(np.abs(np.arange(len(line)) - GRASP_MM * mm))]
+            in_disc &= ~self._specks(grasp, (CLEARANCE_MM + 1.0) * mm, line, half, board, level)(disc)
         if np.count_nonzero(in_disc) >= DISC_HITS:
             return NO_ROOM
         return ""
+
+    def _drop_specks(self, runs: np.ndarray, line: np.ndarray, n: np.ndarray, half: float, board: float,
+                     level: float) -> None:
+        """Clear from `runs` (hits beside the span: rows along it, its two sides, the bands out
+        from it) what is only a speck of the board's texture: on one side, a stretch of hits no
+        longer than SPECK_MM along the wire, all of it on specks (_specks)."""
+        mm = self.wppm
+        offs = half + np.array([0.6, 0.9, 1.2]) * SIDE_FREE_MM * mm
+        for k, sign in ((0, -1.0), (1, 1.0)):
+            seen = runs[:, k, :].any(axis=1)
+            if not seen.any():
+                continue
+            edges = np.flatnonzero(np.diff(np.concatenate(([0], seen.astype(np.int8), [0]))))
+            for a, b in zip(edges[::2], edges[1::2]):  # each stretch of hits, rows a to b - 1
+                if b - a > SPECK_MM * mm:
+                    continue
+                m = (a + b - 1) // 2
+                specks = self._specks(line[m] + sign * offs[1] * n[m], 3.0 * mm, line, half, board, level)
+                band = line[a:b, None, :] + sign * offs[None, :, None] * n[a:b, None, :]
+                if specks(band.reshape(-1, 2))[runs[a:b, k, :].reshape(-1)].all():
+                    runs[a:b, k, :] = False
+
+    def _specks(self, at: np.ndarray, radius: float, line: np.ndarray, half: float, board: float, level: float):
+        """Which points lie on specks of the board's texture near `at` (working px): a function of
+        (N, 2) points. A speck stands out over SPECK_TRACE of the board's threshold, clear of the wire being read
+        (farther than half its width and 0.5 mm from its centre line `line`, its blurred edge, or
+        standing out more than its contrast `level` there: another wire touching it), and is small: all
+        of it within SPECK_MM / 2 of its middle, and inside the square `radius` round `at`.
+        Anything that can touch a wire or the fingers and matter (another wire, its end, a
+        tray's rim, a thing lying there) is larger."""
+        from scipy import ndimage
+
+        mm = self.wppm
+        size = 2 * int(radius) + 1
+        r0, c0 = int(round(at[0])) - int(radius), int(round(at[1])) - int(radius)
+        grid = np.mgrid[r0:r0 + size, c0:c0 + size].reshape(2, -1).T.astype(float)
+        near = line[(np.abs(line - at) <= radius + half + mm).all(axis=1)]
+        seen = self._seen(grid)
+        on = seen >= SPECK_TRACE * board  # (a faint wire's pieces over the threshold joined)
+        if len(near):  # (what stands out more than the wire does there is not the wire)
+            d2 = ((grid[:, None, :] - near[None, :, :]) ** 2).sum(axis=2).min(axis=1)
+            on &= (d2 > (half + 0.5 * mm) ** 2) | (seen > level)
+        pieces, count = ndimage.label(on.reshape(size, size), np.ones((3, 3)))
+        small = np.zeros(count + 1, bool)
+        for i, box in enumerate(ndimage.find_objects(pieces), start=1):
+            if box is None or box[0].start == 0 or box[1].start == 0 or box[0].stop == size or box[1].stop == size:
+                continue
+            rc = np.argwhere(pieces[box] == i)
+            small[i] = bool((((rc - rc.mean(axis=0)) ** 2).sum(axis=1) <= (SPECK_MM / 2 * mm) ** 2).all())
+        speck = ndimage.binary_dilation(small[pieces], np.ones((3, 3)))  # (a sample between pixels)
+
+        def on_speck(pts: np.ndarray) -> np.ndarray:
+            rc = np.round(pts).astype(int) - (r0, c0)
+            inside = (rc >= 0).all(axis=1) & (rc < size).all(axis=1)
+            out = np.zeros(len(pts), bool)
+            out[inside] = speck[rc[inside, 0], rc[inside, 1]]
+            return out
+
+        return on_speck
 
     def clutter(self, span, tip, out, width, board) -> float:
         """How near something comes to a free end: the most contrast, relative to the board's
