@@ -534,12 +534,10 @@ class EndReader:
                     across = ((disc - line[j]) * n[j]).sum(axis=1)
                 on_side = sign * across
                 in_disc &= ~((on_side > 0) & (on_side < offs[-1]))
-        self._drop_specks(runs, line, n, half, board, level)
-        runs = runs.reshape(len(line), -1)
         need = max(round(RUN_MM * mm), 2)
-        if runs.shape[0] >= need:  # a run of `need` hits down any one column
-            c = np.cumsum(np.vstack([np.zeros((1, runs.shape[1]), int), runs]), axis=0)
-            if int((c[need:] - c[:-need]).max()) >= need:
+        if _runs_on(runs, need):
+            self._drop_specks(runs, line, n, half, board, level, need)
+            if _runs_on(runs, need):
                 return BESIDE
         if np.count_nonzero(hit[nb:nb + nc]) >= CAP_HITS:
             return "something lies just beyond its end"
@@ -551,10 +549,11 @@ class EndReader:
         return ""
 
     def _drop_specks(self, runs: np.ndarray, line: np.ndarray, n: np.ndarray, half: float, board: float,
-                     level: float) -> None:
+                     level: float, need: int) -> None:
         """Clear from `runs` (hits beside the span: rows along it, its two sides, the bands out
         from it) what is only a speck of the board's texture: on one side, a stretch of hits no
-        longer than SPECK_MM along the wire, all of it on specks (_specks)."""
+        longer than SPECK_MM along the wire, all of it on specks (_specks). (Only stretches that
+        hold `need` hits in a row in one band are looked at: no others count.)"""
         mm = self.wppm
         offs = half + np.array([0.6, 0.9, 1.2]) * SIDE_FREE_MM * mm
         for k, sign in ((0, -1.0), (1, 1.0)):
@@ -563,7 +562,7 @@ class EndReader:
                 continue
             edges = np.flatnonzero(np.diff(np.concatenate(([0], seen.astype(np.int8), [0]))))
             for a, b in zip(edges[::2], edges[1::2]):  # each stretch of hits, rows a to b - 1
-                if b - a > SPECK_MM * mm:
+                if b - a > SPECK_MM * mm or not _runs_on(runs[a:b, k:k + 1, :], need):
                     continue
                 m = (a + b - 1) // 2
                 specks = self._specks(line[m] + sign * offs[1] * n[m], 3.0 * mm, line, half, board, level)
@@ -659,6 +658,16 @@ class EndReader:
         end_angle = math.degrees(math.atan2(inward[0], inward[1]))
         grasp_angle = math.degrees(math.atan2(tangent[0], tangent[1])) % 180.0
         return Sighting(to_input(tip), end_angle, to_input(grasp), grasp_angle, score)
+
+
+def _runs_on(hits: np.ndarray, need: int) -> bool:
+    """Whether `need` hits lie in a row down any one column of hits (rows along the span, then
+    any other axes: its sides and bands)."""
+    cols = hits.reshape(len(hits), -1)
+    if len(cols) < need:
+        return False
+    c = np.cumsum(np.vstack([np.zeros((1, cols.shape[1]), int), cols]), axis=0)
+    return int((c[need:] - c[:-need]).max()) >= need
 
 
 def _drop(along: np.ndarray, scan_s: np.ndarray, edge: float) -> float | str:
