@@ -265,8 +265,10 @@ def test_a_rim_is_told_from_wires_and_grid_lines_along_the_frame():
         assert not find_rim(image.astype(np.float32), 4.0).any()
 
 
-@pytest.mark.parametrize("gap_mm, free", [(5.0, True), (1.5, False)])
+@pytest.mark.parametrize("gap_mm, free", [(5.0, True), (2.6, True), (1.5, False)])
 def test_ridge_takes_an_end_near_a_rim_and_refuses_one_at_it(gap_mm, free):
+    """The tip of a 2 mm wire 2.6 mm from a rim is 1.6 mm clear of it: free, as the ground truth
+    has it (0.5 mm), with 0.5 mm more for where the rim is found; 1.5 mm is not."""
     image, centre, _ = straight_wire_image(0.0, tip_mm=(10.0 + gap_mm, 60.0))
     image[:, :40] = 0.35  # a rim along the left side, 10 mm wide
     res = find_wires_ridge(image, 4.0)

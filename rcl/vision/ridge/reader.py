@@ -23,6 +23,7 @@ if TYPE_CHECKING:
 
 CLEARANCE_MM = 4.6  # free board round the grasp point, from the centre line: the fingers' room
 SIDE_FREE_MM = 0.9  # free board beside the wire's edges along the span and beyond its tip
+RIM_GAP_MM = 1.0  # ... and between them and a tray's rim (0.5 mm, and as much for where the rim is found)
 KINK_DEG, KINK_MM, KINK_FROM_MM = 45.0, 2.5, 5.0  # a line turning more than this between chords this long,
 # past this far from the tip, turns at a junction onto another wire (no wire bends so tightly; a
 # striped wire's centre line weaves with its stripes, which over shorter chords looks as sharp)
@@ -196,7 +197,7 @@ class EndReader:
         r, c = tip
         if r < border or c < border or r > self.h - 1 - border or c > self.w - 1 - border:
             return "its end is at the frame's border"
-        if self.off_tray(tip[None, :], border)[0]:
+        if self.off_tray(tip[None, :], width / 2 + RIM_GAP_MM * mm)[0]:
             return "its end is at the tray's rim"
         # the centre line from the tip, and the grasp point GRASP_MM along it
         full = _resample(np.vstack([tip[None, :], ext[es > tip_s + 0.5]]), 1.0)
@@ -220,7 +221,7 @@ class EndReader:
         if np.any(seen < border) or np.any(seen[:, 0] > self.h - 1 - border) or np.any(seen[:, 1] > self.w - 1 - border) \
                 or min(grasp[0], grasp[1], self.h - 1 - grasp[0], self.w - 1 - grasp[1]) < room:
             return "the wire runs off the frame near its end"
-        if self.off_tray(seen, border).any() or self.off_tray(grasp[None, :], room)[0]:
+        if self.off_tray(seen, width / 2 + RIM_GAP_MM * mm).any() or self.off_tray(grasp[None, :], room)[0]:
             return "the wire runs to the tray's rim near its end"
         head = full[(s >= TIP_FIT_MM[0] * mm) & (s <= TIP_FIT_MM[1] * mm)]
         if len(head) >= 3:  # the direction at the tip itself (a ridge may bend as it overshoots the end)
