@@ -537,26 +537,26 @@ class EndReader:
                 in_disc &= ~((on_side > 0) & (on_side < offs[-1]))
         need = max(round(RUN_MM * mm), 2)
         if _runs_on(runs, need):
-            self._drop_specks(runs, line, n, half, board, level, need)
+            self._drop_specks(runs, line, n, offs, half, board, level, need)
             if _runs_on(runs, need):
                 return BESIDE
         if np.count_nonzero(hit[nb:nb + nc]) >= CAP_HITS:
             return "something lies just beyond its end"
         if np.count_nonzero(in_disc) >= DISC_HITS:  # (specks there leave the fingers room)
-            grasp = line[np.argmin(np.abs(np.arange(len(line)) - GRASP_MM * mm))]
+            grasp = line[np.argmin(np.abs(np.arange(len(line)) - GRASP_MM * mm))]  # (line: 1 px steps from the tip)
             in_disc &= ~self._specks(grasp, (CLEARANCE_MM + 1.0) * mm, line, half, board, level)(disc)
         if np.count_nonzero(in_disc) >= DISC_HITS:
             return NO_ROOM
         return ""
 
-    def _drop_specks(self, runs: np.ndarray, line: np.ndarray, n: np.ndarray, half: float, board: float,
-                     level: float, need: int) -> None:
-        """Clear from `runs` (hits beside the span: rows along it, its two sides, the bands out
-        from it) what is only a speck of the board's texture: on one side, a stretch of hits no
-        longer than SPECK_MM along the wire, all of it on specks (_specks). (Only stretches that
-        hold `need` hits in a row in one band are looked at: no others count.)"""
+    def _drop_specks(self, runs: np.ndarray, line: np.ndarray, n: np.ndarray, offs: np.ndarray, half: float,
+                     board: float, level: float, need: int) -> None:
+        """Clear from `runs` (hits beside the span: rows along `line`, its two sides, the bands
+        `offs` out from it along its normals `n`) what is only a speck of the board's texture: on
+        one side, a stretch of hits no longer than SPECK_MM along the wire, all of it on specks
+        (_specks). (Only stretches that hold `need` hits in a row in one band are looked at: no
+        others count.)"""
         mm = self.wppm
-        offs = half + np.array([0.6, 0.9, 1.2]) * SIDE_FREE_MM * mm
         for k, sign in ((0, -1.0), (1, 1.0)):
             seen = runs[:, k, :].any(axis=1)
             if not seen.any():
