@@ -537,7 +537,7 @@ class EndReader:
                 in_disc &= ~((on_side > 0) & (on_side < offs[-1]))
         need = max(round(RUN_MM * mm), 2)
         if _runs_on(runs, need):
-            self._drop_specks(runs, line, n, offs, half, board, level, need)
+            self._drop_specks(runs, band.reshape(len(line), 2, 3, 2), line, half, board, level, need)
             if _runs_on(runs, need):
                 return BESIDE
         if np.count_nonzero(hit[nb:nb + nc]) >= CAP_HITS:
@@ -549,15 +549,14 @@ class EndReader:
             return NO_ROOM
         return ""
 
-    def _drop_specks(self, runs: np.ndarray, line: np.ndarray, n: np.ndarray, offs: np.ndarray, half: float,
-                     board: float, level: float, need: int) -> None:
-        """Clear from `runs` (hits beside the span: rows along `line`, its two sides, the bands
-        `offs` out from it along its normals `n`) what is only a speck of the board's texture: on
-        one side, a stretch of hits no longer than SPECK_MM along the wire, all of it on specks
-        (_specks). (Only stretches that hold `need` hits in a row in one band are looked at: no
-        others count.)"""
+    def _drop_specks(self, runs: np.ndarray, band: np.ndarray, line: np.ndarray, half: float, board: float,
+                     level: float, need: int) -> None:
+        """Clear from `runs` (hits beside the span at the points `band`: rows along `line`, its two
+        sides, the bands out from it) what is only a speck of the board's texture: on one side, a
+        stretch of hits no longer than SPECK_MM along the wire, all of it on specks (_specks).
+        (Only stretches that hold `need` hits in a row in one band are looked at: no others count.)"""
         mm = self.wppm
-        for k, sign in ((0, -1.0), (1, 1.0)):
+        for k in (0, 1):
             seen = runs[:, k, :].any(axis=1)
             if not seen.any():
                 continue
@@ -565,10 +564,8 @@ class EndReader:
             for a, b in zip(edges[::2], edges[1::2]):  # each stretch of hits, rows a to b - 1
                 if b - a > SPECK_MM * mm or not _runs_on(runs[a:b, k:k + 1, :], need):
                     continue
-                m = (a + b - 1) // 2
-                specks = self._specks(line[m] + sign * offs[1] * n[m], 3.0 * mm, line, half, board, level)
-                band = line[a:b, None, :] + sign * offs[None, :, None] * n[a:b, None, :]
-                if specks(band.reshape(-1, 2))[runs[a:b, k, :].reshape(-1)].all():
+                specks = self._specks(band[(a + b - 1) // 2, k, 1], 3.0 * mm, line, half, board, level)
+                if specks(band[a:b, k].reshape(-1, 2))[runs[a:b, k, :].reshape(-1)].all():
                     runs[a:b, k, :] = False
 
     def _specks(self, at: np.ndarray, radius: float, line: np.ndarray, half: float, board: float, level: float):
