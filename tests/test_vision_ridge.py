@@ -822,3 +822,37 @@ def test_overlays_carry_a_legend_in_the_colours_they_draw(method):
     items = legend_items(result)
     assert all(colour in colours for colour, _ in items)
     assert items[0][1] == {"ridge": "centre lines", "grey": "traced boundaries", "binary": "skeleton"}[method]
+
+
+def test_ridge_ranks_an_end_whose_tip_lies_on_a_faint_conductor_below_an_as_roomy_insulated_one(monkeypatch):
+    # two wires far apart on a plain grey board, one stripped to 6 mm of tinned conductor (a grey
+    # hardly darker than the board, in noise) at its left end: both ends are taken, the tinned
+    # one's tip at the conductor's end; that tip, found along a faint conductor past the
+    # insulation, is the less sure, so its score carries CONDUCTOR_DOUBT and the insulated end,
+    # which would otherwise come second, comes first
+    from rcl.vision.ridge import reader
+    from rcl.vision.scenes import Scene, WireLook, finish, paint
+    along = np.arange(0, 110.0, 0.5)[:, None]  # on past the frame's right side
+    stripped = Wire(np.array([30.0, 40.0]) + along * [1.0, 0.0], 2.0, 0, (0.1,), 6.0)
+    plain = Wire(np.array([30.0, 100.0]) + along * [1.0, 0.0], 2.0, 0, (0.1,))
+    scene = Scene(512, 512, 4.0, False, 2, 1, ("straight",), (2.0, 2.0), ("black",), ("flat", "tinned"), "plain",
+                  (0.82, 0.82, 0.82), 0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 0.0, 0.0, 0.0, 0.03, 0, False, 0, 0.0, False)
+    looks = [WireLook("black", (0.15, 0.15, 0.15), ("tinned", "flat"), (6.0, 0.0), 0.0),
+             WireLook("black", (0.15, 0.15, 0.15), ("flat", "flat"), (0.0, 0.0), 0.0)]
+    under = np.full((512, 512, 3), 0.82, np.float32)
+    image = finish(scene, paint(scene, [stripped, plain], looks, under), np.random.default_rng(3))
+
+    def scores():
+        res = find_wires_ridge(image, 4.0)
+        ends = [np.array(s.end) / 4.0 for s in res.candidates]
+        tinned = [s.score for s, e in zip(res.candidates, ends) if np.linalg.norm(e - [30.0, 40.0]) < 1.0]
+        insulated = [s.score for s, e in zip(res.candidates, ends) if np.linalg.norm(e - [30.0, 100.0]) < 1.0]
+        assert len(tinned) == 1 and len(insulated) == 1, (ends, res.rejected)
+        return tinned[0], insulated[0], res.candidates[0].score
+
+    tinned, insulated, first = scores()
+    assert first == insulated
+    monkeypatch.setattr(reader, "CONDUCTOR_DOUBT", 1.0)
+    tinned_sure, insulated_sure, first_sure = scores()
+    assert first_sure == tinned_sure and insulated_sure == pytest.approx(insulated)
+    assert tinned == pytest.approx(0.96 * tinned_sure)  # the doubt, on the conductor's end only

@@ -43,7 +43,8 @@ only when what lies around it can be seen to be bare board.
    there. Of the first ENOUGH free ends, the one with the most room round it comes first:
    the least contrast, relative to the board's threshold, in bands 1-3 mm out beside
    its span, beyond its tip and round the grasp point (a nearby wire the free test
-   just missed makes an end a worse bet).
+   just missed makes an end a worse bet); a tip found along a faint conductor, the
+   less sure, counts a little less (CONDUCTOR_DOUBT).
 """
 from __future__ import annotations
 
