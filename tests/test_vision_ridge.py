@@ -856,3 +856,15 @@ def test_ridge_ranks_an_end_whose_tip_lies_on_a_faint_conductor_below_an_as_room
     tinned_sure, insulated_sure, first_sure = scores()
     assert first_sure == tinned_sure and insulated_sure == pytest.approx(insulated)
     assert tinned == pytest.approx(0.96 * tinned_sure)  # the doubt, on the conductor's end only
+
+
+def test_the_rims_percentiles_are_numpys():
+    # the rim's board statistics take one sort for three percentiles; they must be np.percentile's,
+    # bit for bit, at every window length and on a strided view as the rim passes them
+    from rcl.vision.ridge.rim import _percentiles
+
+    rng = np.random.default_rng(5)
+    for n in range(1, 40):
+        x = (rng.random((4, 6, 3, 2 * n)) * rng.uniform(0.1, 10.0)).astype(np.float32)[..., ::2]
+        for mine, numpys in zip(_percentiles(x, (20, 50, 80)), np.percentile(x, (20, 50, 80), axis=3)):
+            assert mine.dtype == numpys.dtype and np.array_equal(mine, numpys)

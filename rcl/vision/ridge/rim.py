@@ -72,7 +72,7 @@ def _steps(prof: np.ndarray, kmin: int, board: int, gap: int) -> np.ndarray:
     # the board's grain, does not hide the edge); every other column of each window, as the
     # percentiles need no more and they are the cost
     windows = np.lib.stride_tricks.sliding_window_view(pad, wide, axis=1)[:, ks + gap, :, ::2]  # (nseg, K, ch, wide/2)
-    low, b, high = np.percentile(windows, (RIM_BOARD_LOW, 50, RIM_BOARD_HIGH), axis=3)  # each (nseg, K, ch)
+    low, b, high = _percentiles(windows, (RIM_BOARD_LOW, 50, RIM_BOARD_HIGH))  # each (nseg, K, ch)
     board_spread = np.maximum(high - b, b - low).max(axis=2)
     step = np.abs(band - b).max(axis=2)
     score = step / np.maximum(np.maximum(band_spread, board_spread), 0.01)
@@ -92,3 +92,21 @@ def _steps(prof: np.ndarray, kmin: int, board: int, gap: int) -> np.ndarray:
     return edges
 
 
+
+
+def _percentiles(a: np.ndarray, qs: tuple) -> list[np.ndarray]:
+    """np.percentile(a, q, axis=-1) for each q (its linear method, computed as it computes it),
+    from one sort of the last axis: on the rim's many short windows a sort is several times
+    quicker than np.percentile's partitions."""
+    s = np.sort(a, axis=-1)
+    n = s.shape[-1]
+    out = []
+    for q in qs:
+        f = np.float64(q) / 100.0
+        virtual = (n - 1) * f
+        lo = int(np.floor(virtual))
+        gamma = np.float64(virtual - lo)
+        below, above = s[..., min(max(lo, 0), n - 1)], s[..., min(max(lo + 1, 0), n - 1)]
+        diff = above - below
+        out.append(above - diff * (1.0 - gamma) if gamma >= 0.5 else below + diff * gamma)
+    return out
