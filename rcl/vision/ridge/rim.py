@@ -92,8 +92,6 @@ def _steps(prof: np.ndarray, kmin: int, board: int, gap: int) -> np.ndarray:
     return edges
 
 
-
-
 def _percentiles(a: np.ndarray, qs: tuple) -> list[np.ndarray]:
     """np.percentile(a, q, axis=-1) for each q (its linear method, computed as it computes it),
     from one sort of the last axis: on the rim's many short windows a sort is several times
@@ -102,11 +100,10 @@ def _percentiles(a: np.ndarray, qs: tuple) -> list[np.ndarray]:
     n = s.shape[-1]
     out = []
     for q in qs:
-        f = np.float64(q) / 100.0
-        virtual = (n - 1) * f
-        lo = int(np.floor(virtual))
-        gamma = np.float64(virtual - lo)
-        below, above = s[..., min(max(lo, 0), n - 1)], s[..., min(max(lo + 1, 0), n - 1)]
+        virtual = (n - 1) * (np.float64(q) / 100.0)
+        lo = int(virtual)  # (q in 0-100: 0 <= virtual <= n - 1)
+        gamma = virtual - lo
+        below, above = s[..., lo], s[..., min(lo + 1, n - 1)]
         diff = above - below
         out.append(above - diff * (1.0 - gamma) if gamma >= 0.5 else below + diff * gamma)
     return out
