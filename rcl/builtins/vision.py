@@ -84,7 +84,7 @@ def findwire(ctx: Context, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
 
 
 def findmiddle(ctx: Context, w: Var[WorldToWire], wg: Var[WireToTool]) -> bool:
-    """FINDMIDDLE(VAR W^, VAR WG^): look for a place to take a wire by its middle, 15 mm or more from the ends of the lines seen and 8 mm from any crossing, with room for the fingers (for a wire none of whose ends is free: lift it and let it fall in a new shape); TRUE sets W^ there (Z along the wire) and WG^ the grasp at W^'s origin, FALSE if there is none."""  # noqa: E501 - one line: the REPL's :help shows it whole
+    """FINDMIDDLE(VAR W^, VAR WG^): look for a place to take a wire by its middle, 20 mm or more along the lines seen from their ends and 8 mm from any crossing, with room for the fingers (for a wire none of whose ends is free: lift it and let it fall in a new shape); TRUE sets W^ there (Z along the wire) and WG^ the grasp at W^'s origin, FALSE if there is none."""  # noqa: E501 - one line: the REPL's :help shows it whole
     return _find(ctx, "middle", w, wg, "FINDMIDDLE")
 
 

@@ -54,7 +54,7 @@ import numpy as np
 
 from ..common import Clock
 from .contrast import contrast, working_image
-from .graph import MIDDLE_END_MM, Graph
+from .graph import Graph
 from .lines import centre_lines, ridges, thin_sparse
 from .reader import MIDDLE_BOW, EndReader
 from .rim import find_rim
@@ -62,8 +62,7 @@ from .rim import find_rim
 __all__ = ["RidgeResult", "find_middle", "find_rim", "find_wires_ridge", "thin_sparse", "working_image"]
 
 SATURATION = 12.0  # contrast (spreads) beyond which a wire is simply there: highlights count no more
-LOOP_END_MM, LOOP_BOW = 8.0, 0.8  # find_middle where no place is MIDDLE_END_MM from line ends:
-# this near them, bowing this much (a small loop with short tails)
+LOOP_BOW = 0.8  # find_middle where no place bows as little as MIDDLE_BOW: a line bowing this much (a small loop)
 ENOUGH = 4  # free ends to find before the search stops (0: all); the roomiest is taken
 
 
@@ -100,14 +99,15 @@ def find_middle(image: np.ndarray, px_per_mm: float = 4.0) -> RidgeResult:
     """Places to take a wire by its middle, best first: for a wire none of whose ends is free
     (a loop that crosses itself near both ends, say), to lift it and let it fall in a new
     shape. Each Sighting's end and grasp are the same point on a centre line, MIDDLE_AWAY_MM
-    from every crossing (so on top) and MIDDLE_END_MM from every end of the centre lines, with
-    the CLEARANCE_MM disc round it free (room for the fingers); end_angle and grasp_angle are
-    the line's direction there. The roomiest comes first. Where there is no such place, places
-    LOOP_END_MM from the ends, bowing up to LOOP_BOW (the far side of a small loop whose tails
-    are short)."""
+    from every crossing (so on top) and MIDDLE_END_MM along its line from every end of the
+    centre lines (so it hangs from the fingers), with the CLEARANCE_MM disc round it free (room
+    for the fingers); end_angle and grasp_angle are the line's direction there. The roomiest
+    comes first. Where there is no such place, places bowing up to LOOP_BOW (a small loop's
+    far side)."""
     result, clock, began, graph, reader = _look(image, px_per_mm)
-    for end_mm, bow in ((MIDDLE_END_MM, MIDDLE_BOW), (LOOP_END_MM, LOOP_BOW)):
-        result.candidates = [s for s in (reader.middle(p, bow) for p in graph.middles(end_mm)) if s is not None]
+    places = graph.middles()
+    for bow in (MIDDLE_BOW, LOOP_BOW):
+        result.candidates = [s for s in (reader.middle(p, bow) for p in places) if s is not None]
         if result.candidates:
             break
     result.candidates.sort(key=lambda s: -s.score)

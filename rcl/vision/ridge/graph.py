@@ -6,17 +6,20 @@ import math
 
 import numpy as np
 
-from .lines import MIN_LINE_MM, NEIGHBOURS, _cut_corners, _trim_crosses
+from .lines import MIN_LINE_MM, NEIGHBOURS, _cut_corners, _trim_crosses, minimal, small_holes, thin_sparse
 
 SPAN_MM = 20.0  # wire that must be free from the tip: the grasp point and 5 mm beyond
 SPUR_MM = 3.0  # branches this short that end at a crossing are whiskers
 GAP_MM = 2.5  # a break in a centre line this long, straight ahead, is bridged
 GAP_CONE_DEG = 30.0
 MIDDLE_AWAY_MM = 8.0  # a middle grasp: this far from every crossing of the centre lines
-MIDDLE_END_MM = 15.0  # ... and this far (straight) from every end of them: held by its middle (along a loop, 20 mm or more)
+MIDDLE_END_MM = 20.0  # ... and this far along its line from every end of the lines: held by its middle, it hangs
+UNDER_MM = 6.0  # ... two line ends this near, facing each other (UNDER_CONE_DEG), are where a wire goes under another
+UNDER_CONE_DEG = 35.0
 MIDDLE_STEP_MM = 3.0  # ... tried at points this far apart
 MIDDLE_MAX = 60  # ... at most this many
 _COS_CONE = math.cos(math.radians(GAP_CONE_DEG))
+_COS_UNDER = math.cos(math.radians(UNDER_CONE_DEG))
 
 
 class Graph:
@@ -129,31 +132,51 @@ class Graph:
         return self._window
 
     def middles(self, end_mm: float = MIDDLE_END_MM) -> list[np.ndarray]:
-        """Points (row, col) on lines MIN_LINE_MM long or more, end_mm or more from every
-        end of those lines and MIDDLE_AWAY_MM from every crossing, MIDDLE_STEP_MM apart at least,
-        farthest from them (relative to those distances) first."""
+        """Points (row, col) on lines MIN_LINE_MM long or more, end_mm or more along their
+        line from every end of those lines (a loop's far side is far from its ends, a short
+        tail's points are not, however far they lie straight; where a line stops beside
+        another, its wire goes under that one and on) and MIDDLE_AWAY_MM (straight) from every
+        crossing, MIDDLE_STEP_MM apart at least, farthest from them (relative to those
+        distances) first."""
         from scipy import ndimage
+        from scipy.sparse.csgraph import dijkstra
 
         grid = self.skeleton.astype(bool)
         if not grid.any():
             return []
         deg = self.degree.reshape(self.h + 2, self.W)[1:-1, 1:-1]
-
-        def distance(marks):
-            return ndimage.distance_transform_edt(~marks) if marks.any() else np.full(grid.shape, np.inf)
-
+        ring = small_holes(grid)
+        if ring.any():  # a ring round a hole of a pixel or two at a line's end: that end is found again
+            grid = minimal(thin_sparse(grid | ring))
+            deg = ndimage.convolve(grid.astype(np.uint8), np.ones((3, 3), np.uint8), mode="constant") - 1
         # the ends and crossings of lines MIN_LINE_MM long or more (a speck of the board's
         # texture leaves a short line whose ends are no wire's)
         pieces, n = ndimage.label(grid, np.ones((3, 3)))
         size = np.bincount(pieces.ravel(), minlength=n + 1)
         size[0] = 0
         lines = size[pieces] >= MIN_LINE_MM * self.wppm
-        from_end = distance(lines & (deg <= 1)) / (end_mm * self.wppm)
-        from_crossing = distance(lines & (deg >= 3)) / (MIDDLE_AWAY_MM * self.wppm)
-        away = np.minimum(from_end, from_crossing)
-        rr, cc = np.nonzero(lines & (away >= 1.0))
-        order = np.argsort(-away[rr, cc], kind="stable")
-        pts = np.column_stack([rr[order], cc[order]]).astype(float)
+        # arc length along the lines from their nearest end, the ends facing each other across
+        # a gap where a wire goes under another joined (no ends of it)
+        rr, cc = np.nonzero(lines)
+        a, b, w = _pixel_links(lines, rr, cc)
+        ends = np.flatnonzero(deg[rr, cc] <= 1)
+        under = np.zeros(len(ends), bool)
+        if len(ends) > 1:
+            i, j, gap = _facing_ends(rr, cc, ends, _links(a, b, w, len(rr)), self.wppm)
+            under[i] = under[j] = True
+            a, b, w = np.concatenate([a, ends[i]]), np.concatenate([b, ends[j]]), np.concatenate([w, gap])
+        crossings = lines & (deg >= 3)
+        crossings[rr[ends[under]], cc[ends[under]]] = True
+        from_crossing = (ndimage.distance_transform_edt(~crossings) if crossings.any()
+                         else np.full(grid.shape, np.inf)) / (MIDDLE_AWAY_MM * self.wppm)
+        if len(ends) > under.sum():
+            arc = dijkstra(_links(a, b, w, len(rr)), directed=False, indices=ends[~under], min_only=True)
+        else:
+            arc = np.full(len(rr), np.inf)  # closed loops only
+        away = np.minimum(arc / (end_mm * self.wppm), from_crossing[rr, cc])
+        keep = away >= 1.0
+        order = np.argsort(-away[keep], kind="stable")
+        pts = np.column_stack([rr[keep][order], cc[keep][order]]).astype(float)
         step2 = (MIDDLE_STEP_MM * self.wppm) ** 2
         kept: list[np.ndarray] = []
         while len(pts) and len(kept) < MIDDLE_MAX:  # the farthest left, then none near it
@@ -191,3 +214,46 @@ def _adjacent(a: int, b: int, W: int) -> bool:
     return max(abs(ra - rb), abs(ca - cb)) == 1
 
 
+def _pixel_links(mask: np.ndarray, rr: np.ndarray, cc: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The set pixels (rr, cc) of mask joined to their 8-neighbours: (from, to, length) by their
+    index in rr, cc, each pair once, 1 or sqrt 2 long."""
+    index = np.full(mask.shape, -1, np.int64)
+    index[rr, cc] = np.arange(len(rr))
+    padded = np.pad(index, 1, constant_values=-1)
+    a, b, w = [], [], []
+    for dr, dc, step in ((0, 1, 1.0), (1, 0, 1.0), (1, 1, math.sqrt(2.0)), (1, -1, math.sqrt(2.0))):
+        other = padded[rr + 1 + dr, cc + 1 + dc]
+        on = other >= 0
+        a.append(np.flatnonzero(on))
+        b.append(other[on])
+        w.append(np.full(int(on.sum()), step))
+    return np.concatenate(a), np.concatenate(b), np.concatenate(w)
+
+
+def _links(a: np.ndarray, b: np.ndarray, w: np.ndarray, n: int):
+    from scipy.sparse import coo_matrix
+
+    return coo_matrix((w, (a, b)), shape=(n, n)).tocsr()
+
+
+def _facing_ends(rr: np.ndarray, cc: np.ndarray, ends: np.ndarray, links, wppm: float):
+    """Pairs of line ends (ends: indices into rr, cc) that face each other (UNDER_CONE_DEG)
+    across UNDER_MM or less and are not joined along the lines nearby: where a wire goes under
+    another. (i, j, their distance), i and j indices into ends, each pair once."""
+    from scipy.sparse.csgraph import dijkstra
+
+    reach = UNDER_MM * wppm
+    along = dijkstra(links, directed=False, indices=ends, limit=2.0 * reach + 2.0)
+    at = np.column_stack([rr[ends], cc[ends]]).astype(float)
+    heading = np.zeros_like(at)  # out of each end: from its line 1-3 mm back
+    for k in range(len(ends)):
+        back = (along[k] >= wppm) & (along[k] <= 3.0 * wppm)
+        if back.any():
+            v = at[k] - np.array([rr[back].mean(), cc[back].mean()])
+            heading[k] = v / max(float(np.hypot(*v)), 1e-9)
+    gap = at[None, :, :] - at[:, None, :]  # [i, j]: from end i to end j
+    d = np.hypot(gap[..., 0], gap[..., 1])
+    facing = (gap * heading[:, None, :]).sum(axis=2) >= _COS_UNDER * d
+    pair = np.triu((d <= reach) & facing & facing.T & ~(along[:, ends] <= 2.0 * d + 2.0))
+    i, j = np.nonzero(pair)
+    return i, j, d[i, j]

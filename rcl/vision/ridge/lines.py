@@ -130,6 +130,28 @@ def centre_lines(strength: np.ndarray, smoothed: list, which: np.ndarray, wppm: 
     return minimal(thin_sparse(lines))
 
 
+def small_holes(mask: np.ndarray) -> np.ndarray:
+    """Holes of one or two pixels (side by side) that the set pixels of mask close round (their
+    4-neighbours outside the hole all set): thinning may leave such a ring where a ridge's end
+    forks, and then that line has no end pixel."""
+    hole = np.zeros_like(mask)
+    m = np.pad(mask, 2)
+    h, w = mask.shape
+
+    def at(dr: int, dc: int) -> np.ndarray:
+        return m[2 + dr:2 + dr + h, 2 + dc:2 + dc + w]
+
+    free = ~mask
+    hole |= free & at(-1, 0) & at(1, 0) & at(0, -1) & at(0, 1)
+    for dr, dc in ((1, 0), (0, 1)):  # this pixel and the one below it, or right of it
+        pair = free & ~at(dr, dc) & at(-dr, -dc) & at(2 * dr, 2 * dc)
+        for side in (-1, 1):
+            pair &= at(dc * side, dr * side) & at(dr + dc * side, dc + dr * side)
+        hole |= pair
+        hole[dr:, dc:] |= pair[:h - dr, :w - dc]
+    return hole
+
+
 def minimal(mask: np.ndarray) -> np.ndarray:
     """The thinned lines with their corners cut: a pixel whose two 4-neighbours at a right angle
     are joined diagonally anyway, and that has nothing on the far side, is dropped. Thinning may
