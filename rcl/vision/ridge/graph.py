@@ -134,8 +134,8 @@ class Graph:
     def middles(self, end_mm: float = MIDDLE_END_MM) -> list[np.ndarray]:
         """Points (row, col) on lines MIN_LINE_MM long or more, end_mm or more along their
         line from every end of those lines (a loop's far side is far from its ends, a short
-        tail's points are not, however far they lie straight; where a line stops beside
-        another, its wire goes under that one and on) and MIDDLE_AWAY_MM (straight) from every
+        tail's points are not, however far they lie straight; two ends facing each other across
+        a short gap are where a wire goes under another and on) and MIDDLE_AWAY_MM (straight) from every
         crossing, MIDDLE_STEP_MM apart at least, farthest from them (relative to those
         distances) first."""
         from scipy import ndimage
