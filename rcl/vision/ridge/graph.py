@@ -148,7 +148,7 @@ class Graph:
         ring = small_holes(grid)
         if ring.any():  # a ring round a hole of a pixel or two at a line's end: that end is found again
             grid = minimal(thin_sparse(grid | ring))
-            deg = ndimage.convolve(grid.astype(np.uint8), np.ones((3, 3), np.uint8), mode="constant") - 1
+            deg = Graph(grid, self.wppm).degree.reshape(self.h + 2, self.W)[1:-1, 1:-1]
         # the ends and crossings of lines MIN_LINE_MM long or more (a speck of the board's
         # texture leaves a short line whose ends are no wire's)
         pieces, n = ndimage.label(grid, np.ones((3, 3)))
