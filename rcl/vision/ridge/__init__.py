@@ -130,15 +130,15 @@ def _look(image: np.ndarray, px_per_mm: float):
     con = contrast(work, wppm, outside, k)
     clock("contrast")
     flat = SATURATION * np.tanh(con.f * (1.0 / SATURATION))  # a wire's body, not its highlight, makes the ridge
-    strength, smoothed, which, fine = ridges(flat, wppm)
+    strength, smoothed, which, each = ridges(flat, wppm)
     clock("ridges")
-    skeleton = centre_lines(strength, smoothed, which, wppm)
+    skeleton = centre_lines(strength, smoothed, which, wppm, each)
     clock("centre lines")
     graph = Graph(skeleton, wppm)
     graph.prune_spurs()
     result.skeleton = graph.skeleton
     clock("graph")
-    reader = EndReader(con, flat, fine, graph, wppm, k, result, outside)
+    reader = EndReader(con, flat, each[0], graph, wppm, k, result, outside)
     return result, clock, began, graph, reader
 
 
