@@ -510,6 +510,25 @@ def test_ridge_sees_a_wire_on_a_board_printed_in_two_tones():
     assert np.dot([math.cos(a), math.sin(a)], d) > math.cos(math.radians(5))
 
 
+@pytest.mark.parametrize("angle, tip", [(25.0, (30.0, 40.0)), (110.0, (90.0, 30.0))])
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_ridge_sees_a_wire_on_a_board_printed_in_two_tones_far_apart(seed, angle, tip):
+    """A red wire on a board printed in light beige and slate blue blobs: the wire stands out,
+    and so do the light blobs, as broad as anything on the tray. Taken as one colour per region,
+    the board left the blobs' edges as lines beside and across the wire (trays 3262, 3293 and
+    4103: every end refused). Where broad patches stand out the board is now tried as two tones
+    too, and both the wire's ends are taken, nothing else."""
+    from scipy import ndimage
+
+    blobs = ndimage.gaussian_filter(np.random.default_rng(seed).normal(size=(512, 512)), 16.0) > 0.0
+    under = np.where(blobs[..., None], np.array([0.80, 0.78, 0.70], np.float32), np.array([0.40, 0.42, 0.55], np.float32))
+    image, centre, d = straight_wire_image(angle, tip, colour=True, under=under, wire_colour=(0.8, 0.15, 0.12))
+    res = find_wires_ridge(image, 4.0, enough=0)
+    ends = [np.array(s.end) / 4.0 for s in res.candidates]
+    assert len(ends) == 2, res.rejected
+    assert all(min(np.linalg.norm(e - centre[0]), np.linalg.norm(e - centre[-1])) < 1.0 for e in ends)
+
+
 @pytest.mark.parametrize("ppm, light, angle", [(4.0, (0.7, 0.0, 0.71), 120.0), (6.0, (0.7, 0.0, 0.71), 135.0),
                                                 (8.0, (0.0, -0.7, 0.71), 150.0)])
 def test_ridge_takes_a_round_wires_faint_flank_for_the_wire_not_for_something_beside_it(ppm, light, angle):

@@ -21,6 +21,9 @@ TONE_THICK_MM = 2.0  # ... each in places this far from the other (no wire is so
 TONE_SHARE = 0.05  # ... in this share of the tray each
 TONE_EDGE_MM = 1.0  # ... and within this of a patch's edge, a colour between the two is board
 TONE_SPREAD = 0.5  # ... F's spread then no less than this share of the spread of the board as one colour
+TONE_F = 4.0  # where wires stand out, a board is tried as two tones if places where F exceeds this
+TONE_PATCHY = 0.005  # ... fill this share of the tray TONE_THICK_MM inside them (broad patches),
+TONE_GAIN = 0.5  # ... and taken so if it leaves less than this share of those places above TONE_F
 
 
 def working_image(image: np.ndarray, px_per_mm: float) -> tuple[np.ndarray, int]:
@@ -67,7 +70,9 @@ def contrast(work: np.ndarray, wppm: float, outside: np.ndarray | None = None, k
     When nothing then stands out of the board (F's TONE_WHEN percentile is low), the board may be
     printed in two tones whose mixture in each block makes the spread as large as a wire's
     contrast (camouflage): it is then tried as two tones (_two_tones), and F taken from the tone
-    under each pixel."""
+    under each pixel. Where things stand out, some of them broader than any wire (_patchy), the
+    board is tried so too, and taken so if that leaves less than TONE_GAIN of the pixels that
+    stood out above TONE_F: the patches of a board printed in tones far apart."""
     under = _board(work, wppm, outside)
     diff, _ = without_lattice(work - under, wppm, k)
     f, unit, spread = _in_spreads(diff, outside)
@@ -79,7 +84,29 @@ def contrast(work: np.ndarray, wppm: float, outside: np.ndarray | None = None, k
             under = tones
             diff, _ = without_lattice(work - under, wppm, k)
             f, unit, _ = _in_spreads(diff, outside, np.maximum(TONE_SPREAD * spread, MIN_SPREAD))
+    elif inside.size and _patchy(f, wppm, outside):
+        # wires stand out, but so do broad patches: a printed board whose tones are far apart
+        tones = _two_tones(work, wppm, outside)
+        if tones is not None:
+            diff, _ = without_lattice(work - tones, wppm, k)
+            f2, unit2, _ = _in_spreads(diff, outside, np.maximum(TONE_SPREAD * spread, MIN_SPREAD))
+            inside2 = f2[::4, ::4] if outside is None else f2[::4, ::4][~outside[::4, ::4]]
+            if np.count_nonzero(inside2 > TONE_F) < TONE_GAIN * np.count_nonzero(inside > TONE_F):
+                f, unit, under = f2, unit2, tones
     return Contrast(f, work, under, unit)
+
+
+def _patchy(f: np.ndarray, wppm: float, outside: np.ndarray | None) -> bool:
+    """Whether TONE_PATCHY of the tray or more lies TONE_THICK_MM inside places where F exceeds
+    TONE_F (a square's half side): broad patches standing out, as no wire is so wide."""
+    from scipy import ndimage
+
+    r = max(int(round(TONE_THICK_MM * wppm / 2)), 1)  # on every second pixel
+    thick = ndimage.minimum_filter(f[::2, ::2] > TONE_F, size=2 * r + 1)
+    if outside is not None:
+        thick &= ~outside[::2, ::2]
+    n = thick.size if outside is None else max(int(np.count_nonzero(~outside[::2, ::2])), 1)
+    return bool(np.count_nonzero(thick) >= TONE_PATCHY * n)
 
 
 def _in_spreads(diff: np.ndarray, outside: np.ndarray | None,
