@@ -15,12 +15,14 @@ only when what lies around it can be seen to be bare board.
    subtracted; a printed lattice (a cutting mat's grid) found in the spectrum and
    taken out (lattice.py); each channel is divided by its own robust spread (noise
    and board texture); the contrast F is the root mean square over the channels.
-   Where nothing then stands out, a board printed in two tones (camouflage) is
-   taken as two: each pixel's board is the tone under it.
+   Where nothing then stands out, or broad patches stand out as well as wires, a
+   board printed in two tones (camouflage) is taken as two: each pixel's board is
+   the tone under it.
 3. Ridges: F smoothed at scales matched to wire diameters 0.8-3 mm; the Hessian's
    most negative eigenvalue, scale-normalised, is the ridge strength; each pixel
    keeps its best scale; non-maximum suppression across the ridge and hysteresis
-   leave the centre lines, thinned to one pixel.
+   leave the centre lines (where that finds none, the suppression at each pixel's own
+   scale: a wire whose contrast peaks at its flanks), thinned to one pixel.
 4. The wire graph: ends (one neighbour) and crossings (three or more); spurs shorter
    than SPUR_MM are pruned; a trace jumps a break of up to GAP_MM to another line
    end facing it; only ends on lines long enough to hold SPAN_MM are read.
