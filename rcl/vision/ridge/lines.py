@@ -109,7 +109,8 @@ def centre_lines(strength: np.ndarray, smoothed: list, which: np.ndarray, wppm: 
     step = np.rint(nr * 1.2).clip(-1, 1).astype(np.int64) * W + np.rint(nc * 1.2).clip(-1, 1).astype(np.int64)
     top = float(strength.max())
     high = RIDGE_HIGH if top >= RIDGE_HIGH else max(FAINT_FLOOR, FAINT_SHARE * top)  # rather than see nothing
-    lines = _strong(_crests(flat, cand, step, rows, cols, (h, w)), strength, high, wppm)
+    keep = _crest(flat, cand, step)
+    lines = _strong(_mask(rows[keep], cols[keep], (h, w)), strength, high, wppm)
     if each is not None:
         # The best strength over the scales has no crest across a wide wire whose contrast is
         # highest at its edges or in its stripes (a white wire's dark flanks, a striped wire):
@@ -121,9 +122,9 @@ def centre_lines(strength: np.ndarray, smoothed: list, which: np.ndarray, wppm: 
         rest = ~_near(lines, 2)[rows, cols]
         cand, rows, cols, step = cand[rest], rows[rest], cols[rest], step[rest]
         own = np.zeros(len(cand), bool)
-        best = which[rows, cols]
+        scale = which[rows, cols]
         for n, s in enumerate(each):
-            m = best == n
+            m = scale == n
             if m.any():
                 own[m] = _crest(np.pad(s, 1).ravel(), cand[m], step[m])
         if (strength[rows[own], cols[own]] > high).any():
@@ -142,12 +143,6 @@ def _crest(flat: np.ndarray, cand: np.ndarray, step: np.ndarray) -> np.ndarray:
     return (v >= flat[cand + step]) & (v > flat[cand - step])
 
 
-def _crests(flat: np.ndarray, cand: np.ndarray, step: np.ndarray, rows: np.ndarray, cols: np.ndarray,
-            shape: tuple) -> np.ndarray:
-    keep = _crest(flat, cand, step)
-    return _mask(rows[keep], cols[keep], shape)
-
-
 def _near(mask: np.ndarray, r: int) -> np.ndarray:
     """The pixels within r (rows and columns both) of a set pixel of mask: a dilation that costs
     what the set pixels do."""
@@ -161,6 +156,7 @@ def _near(mask: np.ndarray, r: int) -> np.ndarray:
 
 
 def _mask(rows: np.ndarray, cols: np.ndarray, shape: tuple) -> np.ndarray:
+    """A mask of the given shape set at the given pixels."""
     mask = np.zeros(shape, bool)
     mask[rows, cols] = True
     return mask
