@@ -76,24 +76,23 @@ def contrast(work: np.ndarray, wppm: float, outside: np.ndarray | None = None, k
     under = _board(work, wppm, outside)
     diff, _ = without_lattice(work - under, wppm, k)
     f, unit, spread = _in_spreads(diff, outside)
-    inside = f[::4, ::4] if outside is None else f[::4, ::4][~outside[::4, ::4]]
-    if inside.size and np.percentile(inside, TONE_WHEN[0]) < TONE_WHEN[1]:
-        # nothing stands out of the board: a board printed in two tones may drown the wires
-        tones = _two_tones(work, wppm, outside)
-        if tones is not None:
-            under = tones
-            diff, _ = without_lattice(work - under, wppm, k)
-            f, unit, _ = _in_spreads(diff, outside, np.maximum(TONE_SPREAD * spread, MIN_SPREAD))
-    elif inside.size and _patchy(f, wppm, outside):
-        # wires stand out, but so do broad patches: a printed board whose tones are far apart
+    inside = _on_tray(f, outside)
+    # nothing stands out of the board: a board printed in two tones may drown the wires; or wires
+    # stand out, but so do broad patches: a printed board whose tones are far apart
+    quiet = bool(inside.size) and np.percentile(inside, TONE_WHEN[0]) < TONE_WHEN[1]
+    if quiet or (inside.size and _patchy(f, wppm, outside)):
         tones = _two_tones(work, wppm, outside)
         if tones is not None:
             diff, _ = without_lattice(work - tones, wppm, k)
             f2, unit2, _ = _in_spreads(diff, outside, np.maximum(TONE_SPREAD * spread, MIN_SPREAD))
-            inside2 = f2[::4, ::4] if outside is None else f2[::4, ::4][~outside[::4, ::4]]
-            if np.count_nonzero(inside2 > TONE_F) < TONE_GAIN * np.count_nonzero(inside > TONE_F):
+            if quiet or np.count_nonzero(_on_tray(f2, outside) > TONE_F) < TONE_GAIN * np.count_nonzero(inside > TONE_F):
                 f, unit, under = f2, unit2, tones
     return Contrast(f, work, under, unit)
+
+
+def _on_tray(f: np.ndarray, outside: np.ndarray | None) -> np.ndarray:
+    """Every fourth pixel's F (each way) on the tray: a sample to judge the whole by."""
+    return f[::4, ::4] if outside is None else f[::4, ::4][~outside[::4, ::4]]
 
 
 def _patchy(f: np.ndarray, wppm: float, outside: np.ndarray | None) -> bool:
