@@ -529,6 +529,31 @@ def test_ridge_sees_a_wire_on_a_board_printed_in_two_tones_far_apart(seed, angle
     assert all(min(np.linalg.norm(e - centre[0]), np.linalg.norm(e - centre[-1])) < 1.0 for e in ends)
 
 
+@pytest.mark.parametrize("angle", [0.0, 30.0])
+@pytest.mark.parametrize("delta", [0.035, 0.045])
+@pytest.mark.parametrize("patch", ["blob", "strip"])
+def test_ridge_tells_a_broad_patch_of_the_boards_print_past_a_tip_from_the_wire_going_on(patch, delta, angle):
+    """A faint grey wire (its contrast about 10 spreads) whose end abuts a blob of the board's
+    darker tone, 14 mm across (tray 4089: the blob's faint contrast, straight on past the tip, was
+    taken for the wire going on, and the end refused). A blob fills the fan beyond the tip, and the
+    end is taken; the same faint contrast in a strip as wide as the wire, going on 10 mm along its
+    axis, is the wire going on, and no end is taken there."""
+    size, ppm, radius = 512, 4.0, 7.0
+    d = np.array([math.cos(math.radians(angle)), math.sin(math.radians(angle))])
+    tip = np.array([40.0, 64.0])
+    rel = np.dstack(np.mgrid[0:size, 0:size][::-1]) / ppm - tip
+    if patch == "blob":
+        darker = np.linalg.norm(rel + (radius + 0.3) * d, axis=2) < radius
+    else:
+        along, across = rel @ d, rel @ np.array([-d[1], d[0]])
+        darker = (along < 0.3) & (along > -10.0) & (np.abs(across) < 1.0)
+    under = np.where(darker[..., None], np.float32(0.8 - delta), np.float32(0.8)) * np.ones(3, np.float32)
+    image, _, _ = straight_wire_image(angle, tuple(tip), under=under, wire_colour=(0.62, 0.62, 0.62))
+    res = find_wires_ridge(image, ppm, enough=0)
+    taken = any(np.linalg.norm(np.array(s.end) / ppm - tip) < 1.0 for s in res.candidates)
+    assert taken == (patch == "blob"), res.rejected
+
+
 @pytest.mark.parametrize("ppm, light, angle", [(4.0, (0.7, 0.0, 0.71), 120.0), (6.0, (0.7, 0.0, 0.71), 135.0),
                                                 (8.0, (0.0, -0.7, 0.71), 150.0)])
 def test_ridge_takes_a_round_wires_faint_flank_for_the_wire_not_for_something_beside_it(ppm, light, angle):

@@ -50,6 +50,7 @@ TIP_SHARE = 0.5  # the tip: where the contrast falls below half the wire's (a bl
 BOARD_SHARE = 0.3  # ... and below this share of the wire's own contrast
 FADE_SHARE = 0.12  # straight past a tip, this share of the wire's contrast still means wire
 FADE_FLOOR = 2.5  # ... and so does this much (spreads): bare board beyond an end is darker than that
+BROAD_SHARE = 0.6  # ... unless it fills this share of the fan beyond the tip: a broad patch of the board's print
 RUN_MM = 0.6  # beside the span: contrast this long along the wire is something there
 SPECK_MM = 2.0  # ... unless it is a speck of the board's texture: no larger than this across
 SPECK_TRACE = 0.5  # ... where its contrast is this share of the threshold for a thing there
@@ -515,8 +516,9 @@ class EndReader:
         nb, nc = len(band), len(cap)
         # straight on past the tip, even a faint contrast that goes on is the wire going on into
         # light or a colour that hides it, not its end
-        ahead = values[nb:nb + nc].reshape(len(_FAN), -1)[len(_FAN) // 2 - 1:len(_FAN) // 2 + 2]
-        if np.count_nonzero(ahead >= max(FADE_FLOOR, FADE_SHARE * level)) >= ahead.size // 2:
+        fan = values[nb:nb + nc].reshape(len(_FAN), -1) >= max(FADE_FLOOR, FADE_SHARE * level)
+        ahead = fan[len(_FAN) // 2 - 1:len(_FAN) // 2 + 2]
+        if np.count_nonzero(ahead) >= ahead.size // 2 and np.count_nonzero(fan) < BROAD_SHARE * fan.size:
             return "its contrast fades but goes on past its end"
         # beside the span, something that goes on for RUN_MM along it (a speck of the board's
         # texture or a thin printed line does not)
