@@ -529,6 +529,27 @@ def test_ridge_sees_a_wire_on_a_board_printed_in_two_tones_far_apart(seed, angle
     assert all(min(np.linalg.norm(e - centre[0]), np.linalg.norm(e - centre[-1])) < 1.0 for e in ends)
 
 
+@pytest.mark.parametrize("angle, slant, light", [(20.0, 20.0, 0.58), (20.0, -18.0, 0.6), (200.0, 20.0, 0.56)])
+def test_ridge_does_not_take_a_printed_line_past_a_wires_end_for_its_conductor(angle, slant, light):
+    """A flat-cut dark wire on a mid-grey board printed with a thin, faint line (a cutting mat's
+    grid line) that passes through its tip about 20 degrees off its axis (trays 1142 and 1157: no
+    grid found in the spectrum, or not all of it taken out). Scanning for a conductor straight on
+    past the insulation, the line, seen slanting across the scan, passed for a faint conductor, and
+    the tip was put 3-5 mm out. Past a conductor's tip lies board; this line goes on, so it is no
+    conductor, and the tip is the insulation's end."""
+    size, ppm = 512, 4.0
+    tip = np.array([64.0, 64.0])
+    g = np.array([math.cos(math.radians(angle + slant)), math.sin(math.radians(angle + slant))])
+    rel = np.dstack(np.mgrid[0:size, 0:size][::-1]) / ppm - tip
+    line = np.clip(0.5 - (np.abs(rel @ np.array([-g[1], g[0]])) * ppm - 0.6), 0, 1)  # about 1 px wide
+    under = ((0.5 + (light - 0.5) * line)[..., None] * np.ones(3)).astype(np.float32)
+    image, _, _ = straight_wire_image(angle, tuple(tip), under=under, board_grey=0.5)
+    res = find_wires_ridge(image, ppm, enough=0)
+    near = [np.linalg.norm(np.array(s.end) / ppm - tip) for s in res.candidates]
+    near = [d for d in near if d < 8.0]
+    assert len(near) == 1 and near[0] < 0.5, (near, res.rejected)
+
+
 @pytest.mark.parametrize("angle", [0.0, 30.0])
 @pytest.mark.parametrize("delta", [0.035, 0.045])
 @pytest.mark.parametrize("patch", ["blob", "strip"])

@@ -36,6 +36,9 @@ CONDUCTOR_CONTRAST = 1.2  # a faint conductor: its axis this far (spreads) above
 CONDUCTOR_MIN_MM = 2.5  # ... at least this long (a shorter one is the blur or the shadow of the end)
 CONDUCTOR_WINDOW_MM = 1.0  # ... on average over this much of its length
 CONDUCTOR_NARROW = 0.7  # ... and narrower than the wire: 0.45 of its width off the axis, less than this share of it
+RUN_ON_MM = (0.5, 3.0)  # ... and past its tip, this stretch free of a thin line going on (line_goes_on):
+RUN_ON_CONTRAST = 1.5  # ... its peak across the stretch this far (spreads) above the median there,
+RUN_ON_WIDE_MM = 0.8  # ... and no wider than this
 CONDUCTOR_DOUBT = 0.96  # an end whose tip lies on such a conductor ranks as this much less roomy (its tip
 # is the less sure: of the free ends read on trays 3000-5399, 8 % of such tips lay over 1.5 mm off, 2 % of others)
 TIP_START_MM = 10.0  # the search for the tip starts this far in along the centre line: on the insulation
@@ -405,10 +408,31 @@ class EndReader:
         low = low[low >= n]  # not in the tip's own first window
         i = int(low[0]) if low.size else run
         if i >= run:
-            return end + out * steps[run - 1]
-        a, b = mean[i - 1], mean[i]
-        frac = float(np.clip((a - edge) / max(a - b, 1e-6), 0, 1))
-        return end + out * (steps[i - 1] + frac * 0.5)
+            reach = float(steps[run - 1])
+        else:
+            a, b = mean[i - 1], mean[i]
+            reach = float(steps[i - 1] + np.clip((a - edge) / max(a - b, 1e-6), 0, 1) * 0.5)
+        if self.line_goes_on(end + out * reach, out, width):
+            return end  # a line of the board's print, not a conductor
+        return end + out * reach
+
+    def line_goes_on(self, tip: np.ndarray, out: np.ndarray, width: float) -> bool:
+        """Whether a thin line goes on past a conductor's tip (out: its direction): over RUN_ON_MM
+        past it, across the wire's width and 1 mm either side, the most contrast stands
+        RUN_ON_CONTRAST above the median there (the median over that stretch), in a peak no wider
+        than RUN_ON_WIDE_MM (a broad patch's edge beside the tip is no line). Past its tip a
+        conductor gives way to board; a line that goes on is the board's print (a cutting mat's
+        grid line, crossed at a slant by the scan for the tip), taken for a conductor."""
+        mm = self.wppm
+        side = np.array([-out[1], out[0]])
+        ahead = np.arange(RUN_ON_MM[0] * mm, RUN_ON_MM[1] * mm, 0.5)
+        across = np.arange(-(width / 2 + mm), width / 2 + mm + 0.01, 0.5)
+        near = self.sample((tip + ahead[:, None, None] * out + across[None, :, None] * side).reshape(-1, 2))
+        near = near.reshape(len(ahead), len(across))
+        base = np.median(near, axis=1)
+        peak = near.max(axis=1) - base
+        wide = np.count_nonzero(near - base[:, None] >= 0.5 * peak[:, None], axis=1) * 0.5 > RUN_ON_WIDE_MM * mm
+        return bool(np.median(np.where(wide, 0.0, peak)) >= RUN_ON_CONTRAST)
 
     def lighter(self, end: np.ndarray, out: np.ndarray) -> bool:
         """Whether the wire's last mm before end (out: out of the wire) is lighter than the board
