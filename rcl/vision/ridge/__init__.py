@@ -29,9 +29,12 @@ only when what lies around it can be seen to be bare board.
 5. Each end: traced inward for SPAN_MM (a crossing on the way: it touches another
    wire); the wire's width measured across it; the tip followed outward along the
    contrast past the ridge's end (a rounded cap, a ferrule, stripped copper) to
-   where the board begins; an end at the frame border, or whose contrast runs on
-   (under another wire), or whose centre line turns more sharply than a wire bends
-   (a trace run on past a junction onto another wire), is refused.
+   where the board begins (a faint "conductor" that runs on past its own tip as a
+   thin line is the board's print, and not followed); an end at the frame border,
+   or whose contrast runs on (under another wire) or fades but goes on straight past
+   its tip (unless it fills the fan beyond the tip: a broad patch of print), or whose
+   centre line turns more sharply than a wire bends (a trace run on past a junction
+   onto another wire), is refused.
 6. Free: the board must show beside the whole span, beyond the tip, and in a
    CLEARANCE_MM disc round the grasp point (room for the fingers); a faint band only
    next to the wire, along much of the span, is its own flank or shadow, and a speck of the

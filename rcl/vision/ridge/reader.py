@@ -364,7 +364,8 @@ class EndReader:
         """The tip of a faint conductor or ferrule running on straight past the insulation's end
         (end), or end itself if there is none. It runs while the contrast on the axis (the most
         of three samples across it), averaged over CONDUCTOR_WINDOW_MM, stands CONDUCTOR_CONTRAST
-        above the board beside it; its tip is where that contrast falls to TIP_SHARE of its own."""
+        above the board beside it; its tip is where that contrast falls to TIP_SHARE of its own,
+        and past that tip no thin line may go on (line_goes_on: a line of the board's print)."""
         from scipy import ndimage
 
         mm = self.wppm
@@ -417,10 +418,11 @@ class EndReader:
         return end + out * reach
 
     def line_goes_on(self, tip: np.ndarray, out: np.ndarray, width: float) -> bool:
-        """Whether a thin line goes on past a conductor's tip (out: its direction): over RUN_ON_MM
-        past it, across the wire's width and 1 mm either side, the most contrast stands
-        RUN_ON_CONTRAST above the median there (the median over that stretch), in a peak no wider
-        than RUN_ON_WIDE_MM (a broad patch's edge beside the tip is no line). Past its tip a
+        """Whether a thin line goes on past a conductor's tip (out: its direction). At each step
+        over RUN_ON_MM past it, across the wire's width and 1 mm either side: the most contrast,
+        above that row's median, in a peak no wider than RUN_ON_WIDE_MM (a broad patch's edge
+        beside the tip is no line); a line goes on where that stands RUN_ON_CONTRAST or more at
+        half the steps (a speck of the board's texture holds a step or two). Past its tip a
         conductor gives way to board; a line that goes on is the board's print (a cutting mat's
         grid line, crossed at a slant by the scan for the tip), taken for a conductor."""
         mm = self.wppm
@@ -539,7 +541,8 @@ class EndReader:
         hit = values >= board
         nb, nc = len(band), len(cap)
         # straight on past the tip, even a faint contrast that goes on is the wire going on into
-        # light or a colour that hides it, not its end
+        # light or a colour that hides it, not its end; but not one that fills most of the fan
+        # beyond the tip, as no wire going on does: a broad patch of the board's print
         fan = values[nb:nb + nc].reshape(len(_FAN), -1) >= max(FADE_FLOOR, FADE_SHARE * level)
         ahead = fan[len(_FAN) // 2 - 1:len(_FAN) // 2 + 2]
         if np.count_nonzero(ahead) >= ahead.size // 2 and np.count_nonzero(fan) < BROAD_SHARE * fan.size:
