@@ -20,7 +20,9 @@ TONE_SPLIT = 3.0  # two tones: this many of their own spreads apart
 TONE_THICK_MM = 2.0  # ... each in places this far from the other (no wire is so wide)
 TONE_SHARE = 0.05  # ... in this share of the tray each
 TONE_EDGE_MM = 1.0  # ... and within this of a patch's edge, a colour between the two is board
-TONE_SPREAD = 0.5  # ... F's spread then no less than this share of the spread of the board as one colour
+TONE_SPREAD = 0.3  # ... F's spread then no less than this share of the spread of the board as one colour
+TONE_SAMPLE = 6000  # ... told apart on about so many pixels, evenly spread
+TONE_TIGHT = 0.5  # two tones are taken when the board's spread from them is less than this share of it as one colour
 TONE_F = 4.0  # where wires stand out, a board is tried as two tones if places where F exceeds this
 TONE_PATCHY = 0.005  # ... fill this share of the tray TONE_THICK_MM inside them (broad patches),
 TONE_GAIN = 0.5  # ... and taken so if it leaves less than this share of those places above TONE_F
@@ -67,26 +69,29 @@ def contrast(work: np.ndarray, wppm: float, outside: np.ndarray | None = None, k
     the channels. Pixels `outside` the tray (a rim, the bench round it) have no say in the board
     and no contrast.
 
-    When nothing then stands out of the board (F's TONE_WHEN percentile is low), the board may be
-    printed in two tones whose mixture in each block makes the spread as large as a wire's
-    contrast (camouflage): it is then tried as two tones (_two_tones), and F taken from the tone
-    under each pixel. Where things stand out, some of them broader than any wire (_patchy), the
-    board is tried so too, and taken so if that leaves less than TONE_GAIN of the pixels that
-    stood out above TONE_F: the patches of a board printed in tones far apart."""
+    The board may be printed in two tones (camouflage) whose mixture in each block makes the
+    spread as large as a wire's contrast; so it is also tried as two tones (_two_tones), with F
+    taken from the tone under each pixel, and taken so when nothing stands out of it as one
+    colour (F's TONE_WHEN percentile is low), when its spread from the two tones is less than
+    TONE_TIGHT of its spread as one colour (the tones are what varies: a wire of a third colour
+    drowned in their mixture stands out of them), or when things broader than any wire stand out
+    (_patchy) and the tones leave less than TONE_GAIN of the pixels that stood out above TONE_F
+    (the patches of a board printed in tones far apart)."""
     under = _board(work, wppm, outside)
     diff, _ = without_lattice(work - under, wppm, k)
     f, unit, spread = _in_spreads(diff, outside)
     inside = _on_tray(f, outside)
-    # nothing stands out of the board: a board printed in two tones may drown the wires; or wires
-    # stand out, but so do broad patches: a printed board whose tones are far apart
+    # nothing stands out of the board: a board printed in two tones may drown the wires; or the
+    # tones are what varies; or wires stand out, but so do broad patches: tones far apart
     quiet = bool(inside.size) and np.percentile(inside, TONE_WHEN[0]) < TONE_WHEN[1]
-    if quiet or (inside.size and _patchy(f, wppm, outside)):
-        tones = _two_tones(work, wppm, outside)
-        if tones is not None:
-            diff, _ = without_lattice(work - tones, wppm, k)
-            f2, unit2, _ = _in_spreads(diff, outside, np.maximum(TONE_SPREAD * spread, MIN_SPREAD))
-            if quiet or np.count_nonzero(_on_tray(f2, outside) > TONE_F) < TONE_GAIN * np.count_nonzero(inside > TONE_F):
-                f, unit, under = f2, unit2, tones
+    tones = _two_tones(work, wppm, outside) if inside.size else None
+    if tones is not None:
+        diff, _ = without_lattice(work - tones, wppm, k)
+        tight = float(np.sqrt((_spread(diff, outside) ** 2).sum() / (spread ** 2).sum())) < TONE_TIGHT
+        f2, unit2, _ = _in_spreads(diff, outside, np.maximum(TONE_SPREAD * spread, MIN_SPREAD))
+        if quiet or tight or (_patchy(f, wppm, outside) and np.count_nonzero(_on_tray(f2, outside) > TONE_F)
+                              < TONE_GAIN * np.count_nonzero(inside > TONE_F)):
+            f, unit, under = f2, unit2, tones
     return Contrast(f, work, under, unit)
 
 
@@ -206,13 +211,14 @@ def _two_tones(work: np.ndarray, wppm: float, outside: np.ndarray | None) -> np.
 
     h, w, ch = work.shape
     inside = np.ones((h, w), bool) if outside is None else ~outside
-    keep = inside[::4, ::4]
+    step = max(4, int(np.ceil(np.sqrt(h * w / TONE_SAMPLE))))  # every 4th pixel, or fewer on a large image
+    keep = inside[::step, ::step]
     if keep.sum() < 200:
         return None
-    rows, cols = np.mgrid[0:h:4, 0:w:4]
+    rows, cols = np.mgrid[0:h:step, 0:w:step]
     y, x = rows[keep] / h - 0.5, cols[keep] / w - 0.5
     terms = np.column_stack([np.ones_like(x), x, y, x * x, x * y, y * y])
-    sample = work[::4, ::4][keep]
+    sample = work[::step, ::step][keep]
     coef, *_ = np.linalg.lstsq(terms, sample, rcond=None)
     rest = sample - terms @ coef
     spread = np.maximum(1.4826 * np.median(np.abs(rest - np.median(rest, axis=0)), axis=0), MIN_SPREAD)
