@@ -248,13 +248,13 @@ def _two_tones(work: np.ndarray, wppm: float, outside: np.ndarray | None) -> np.
     low = (tone < t) & inside
     high = (tone >= t) & inside
     r = TONE_THICK_MM * wppm
-    thick_low = ndimage.distance_transform_edt(low) >= r
-    thick_high = ndimage.distance_transform_edt(high) >= r
+    thick_low = _deep_in(low, r)
+    thick_high = _deep_in(high, r)
     n = max(int(inside.sum()), 1)
     if thick_low.sum() < TONE_SHARE * n or thick_high.sum() < TONE_SHARE * n:
         return None
-    patch_low = low & (ndimage.distance_transform_edt(~thick_low) <= r)
-    patch_high = high & (ndimage.distance_transform_edt(~thick_high) <= r)
+    patch_low = low & _near(thick_low, r)
+    patch_high = high & _near(thick_high, r)
     lows, grid = _block_medians(work, wppm, ~thick_low)
     highs, _ = _block_medians(work, wppm, ~thick_high)
     both = ~np.isnan(lows[..., 0]) & ~np.isnan(highs[..., 0])
@@ -268,13 +268,37 @@ def _two_tones(work: np.ndarray, wppm: float, outside: np.ndarray | None) -> np.
     nearer_low = ((work - a) ** 2).sum(axis=2) < ((work - b) ** 2).sum(axis=2)
     under = np.where((patch_low | (nearer_low & ~patch_high))[..., None], a, b)
     e = TONE_EDGE_MM * wppm
-    edge = ((ndimage.distance_transform_edt(~patch_low) <= e) | (ndimage.distance_transform_edt(~patch_high) <= e)) \
-        & (ndimage.distance_transform_edt(patch_low) <= e) & (ndimage.distance_transform_edt(patch_high) <= e)
+    edge = (_near(patch_low, e) | _near(patch_high, e)) & _near(~patch_low, e) & _near(~patch_high, e)
     if edge.any():
         seg = b[edge] - a[edge]
         f = np.clip(((work[edge] - a[edge]) * seg).sum(axis=1) / np.maximum((seg * seg).sum(axis=1), 1e-9), 0, 1)
         under[edge] = a[edge] + f[:, None] * seg
     return under
+
+
+def _disc_of(radius: float, strict: bool) -> np.ndarray:
+    """The pixels whose distance from the middle one is less than radius (strict), or no more."""
+    n = int(np.floor(radius))
+    y, x = np.mgrid[-n:n + 1, -n:n + 1]
+    d2 = x * x + y * y
+    return d2 < radius * radius if strict else d2 <= radius * radius
+
+
+def _deep_in(mask: np.ndarray, radius: float) -> np.ndarray:
+    """The pixels of mask whose nearest pixel not in it lies radius or more away (the frame's
+    edge not counted as one): distance_transform_edt(mask) >= radius, as an erosion by a disc,
+    several times quicker for a radius of a few pixels."""
+    from scipy import ndimage
+
+    return ndimage.binary_erosion(mask, _disc_of(radius, True), border_value=1)
+
+
+def _near(mask: np.ndarray, radius: float) -> np.ndarray:
+    """The pixels within radius of a pixel of mask: distance_transform_edt(~mask) <= radius, as
+    a dilation by a disc."""
+    from scipy import ndimage
+
+    return ndimage.binary_dilation(mask, _disc_of(radius, False))
 
 
 def _spread(diff: np.ndarray, outside: np.ndarray | None) -> np.ndarray:
