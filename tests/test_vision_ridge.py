@@ -1005,3 +1005,19 @@ def test_the_rims_percentiles_are_numpys():
         x = (rng.random((4, 6, 3, 2 * n)) * rng.uniform(0.1, 10.0)).astype(np.float32)[..., ::2]
         for mine, numpys in zip(_percentiles(x, (20, 50, 80)), np.percentile(x, (20, 50, 80), axis=3)):
             assert mine.dtype == numpys.dtype and np.array_equal(mine, numpys)
+
+
+@pytest.mark.parametrize("radius", [0.7, 2.0, 4.2, 5.8])
+def test_two_tones_masks_by_disc_are_the_euclidean_distance_transforms_thresholds(radius):
+    """The two tones' patches and edges are thresholded distances, found by erosion and dilation
+    with a disc: they must be exactly scipy's Euclidean distance transform, thresholded, on blobs
+    that touch the frame's edges (which the transform does not count as outside a mask)."""
+    import sys
+
+    from scipy import ndimage
+
+    contrast = sys.modules["rcl.vision.ridge.contrast"]
+    rng = np.random.default_rng(int(radius * 10))
+    mask = ndimage.gaussian_filter(rng.normal(size=(90, 130)), 3.0) > 0.0
+    assert np.array_equal(contrast._deep_in(mask, radius), ndimage.distance_transform_edt(mask) >= radius)
+    assert np.array_equal(contrast._near(mask, radius), ndimage.distance_transform_edt(~mask) <= radius)
