@@ -1021,3 +1021,24 @@ def test_two_tones_masks_by_disc_are_the_euclidean_distance_transforms_threshold
     mask = ndimage.gaussian_filter(rng.normal(size=(90, 130)), 3.0) > 0.0
     assert np.array_equal(contrast._deep_in(mask, radius), ndimage.distance_transform_edt(mask) >= radius)
     assert np.array_equal(contrast._near(mask, radius), ndimage.distance_transform_edt(~mask) <= radius)
+
+
+def test_two_tones_near_black_do_not_make_a_tone_brighter_than_white():
+    """A photograph on a black cloth (mBEST S2, img49): the background split into two tones
+    near black, and where a block showed only the darker one, the lighter was that colour times
+    the ratio of the two elsewhere, taken to JPEG's black (0): brighter than white, and the plain
+    cloth there stood out as things. A ratio is now taken no nearer black than TONE_DARK."""
+    import sys
+
+    from scipy import ndimage
+
+    contrast = sys.modules["rcl.vision.ridge.contrast"]
+    rng = np.random.default_rng(0)
+    work = np.where(ndimage.gaussian_filter(rng.normal(size=(256, 256)), 8.0) > 0.0, 0.10, 0.0)
+    work[170:, :] = 0.01  # the darker tone only, not quite black
+    work = np.clip(work + rng.normal(0, 0.004, work.shape) * (work > 0), 0, 1).astype(np.float32)
+    work = np.repeat(work[..., None], 3, axis=2)
+    tones = contrast._two_tones(work, 2.0, None)
+    assert tones is not None and tones.max() <= 0.12
+    f = contrast.contrast(work, 2.0, None, 1).f
+    assert np.percentile(f[180:, :], 99) < 4.0

@@ -21,6 +21,7 @@ TONE_THICK_MM = 2.0  # ... each in places this far from the other (no wire is so
 TONE_SHARE = 0.05  # ... in this share of the tray each
 TONE_EDGE_MM = 1.0  # ... and within this of a patch's edge, a colour between the two is board
 TONE_SPREAD = 0.3  # ... F's spread then no less than this share of the spread of the board as one colour
+TONE_DARK = 0.02  # ... the ratio of their colours (0-1) taken no nearer black than this
 TONE_SAMPLE = 6000  # ... told apart on about so many pixels, evenly spread
 TONE_TIGHT = 0.5  # two tones are taken when the board's spread from them is less than this share of it as one colour
 TONE_F = 4.0  # where wires stand out, a board is tried as two tones if places where F exceeds this
@@ -260,8 +261,10 @@ def _two_tones(work: np.ndarray, wppm: float, outside: np.ndarray | None) -> np.
     both = ~np.isnan(lows[..., 0]) & ~np.isnan(highs[..., 0])
     if both.sum() < 3:
         return None
-    ratio = np.median(highs[both] / np.maximum(lows[both], 1e-4), axis=0)
-    lows = np.where(np.isnan(lows), highs / np.maximum(ratio, 1e-4), lows)
+    # (a colour near black has no ratio to speak of: JPEG's black is 0, and a ratio to it would
+    # make the lighter tone, where only the darker shows, brighter than white)
+    ratio = np.median(np.maximum(highs[both], TONE_DARK) / np.maximum(lows[both], TONE_DARK), axis=0)
+    lows = np.where(np.isnan(lows), highs / ratio, lows)
     highs = np.where(np.isnan(highs), lows * ratio, highs)
     a = _enlarged(_filled(lows), grid, work)
     b = _enlarged(_filled(highs), grid, work)
