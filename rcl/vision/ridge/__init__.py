@@ -15,9 +15,10 @@ only when what lies around it can be seen to be bare board.
    subtracted; a printed lattice (a cutting mat's grid) found in the spectrum and
    taken out (lattice.py); each channel is divided by its own robust spread (noise
    and board texture); the contrast F is the root mean square over the channels.
-   Where nothing then stands out, or broad patches stand out as well as wires, a
-   board printed in two tones (camouflage) is taken as two: each pixel's board is
-   the tone under it.
+   Every board is also tried as printed in two tones (camouflage), and taken as two
+   where nothing then stands out, where the two tones explain most of its spread, or
+   where broad patches stand out as well as wires: each pixel's board is the tone
+   under it.
 3. Ridges: F smoothed at scales matched to wire diameters 0.8-3 mm; the Hessian's
    most negative eigenvalue, scale-normalised, is the ridge strength; each pixel
    keeps its best scale; non-maximum suppression across the ridge and hysteresis
