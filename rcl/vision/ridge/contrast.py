@@ -88,8 +88,9 @@ def contrast(work: np.ndarray, wppm: float, outside: np.ndarray | None = None, k
     tones = _two_tones(work, wppm, outside) if inside.size else None
     if tones is not None:
         diff, _ = without_lattice(work - tones, wppm, k)
-        tight = float(np.sqrt((_spread(diff, outside) ** 2).sum() / (spread ** 2).sum())) < TONE_TIGHT
-        f2, unit2, _ = _in_spreads(diff, outside, np.maximum(TONE_SPREAD * spread, MIN_SPREAD))
+        own = _spread(diff, outside)
+        tight = float(np.sqrt((own ** 2).sum() / (spread ** 2).sum())) < TONE_TIGHT
+        f2, unit2, _ = _in_spreads(diff, outside, np.maximum(TONE_SPREAD * spread, MIN_SPREAD), own)
         if quiet or tight or (_patchy(f, wppm, outside) and np.count_nonzero(_on_tray(f2, outside) > TONE_F)
                               < TONE_GAIN * np.count_nonzero(inside > TONE_F)):
             f, unit, under = f2, unit2, tones
@@ -114,13 +115,13 @@ def _patchy(f: np.ndarray, wppm: float, outside: np.ndarray | None) -> bool:
     return bool(np.count_nonzero(thick) >= TONE_PATCHY * n)
 
 
-def _in_spreads(diff: np.ndarray, outside: np.ndarray | None,
-                least: float | np.ndarray = MIN_SPREAD) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _in_spreads(diff: np.ndarray, outside: np.ndarray | None, least: float | np.ndarray = MIN_SPREAD,
+                own: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(F: the difference from the board with each channel in units of its own robust spread (no
-    less than `least`), the root mean square over the channels; the factor per channel; the
-    spreads). diff is scaled in place."""
+    less than `least`; `own`, if the caller has measured it), the root mean square over the
+    channels; the factor per channel; the spreads). diff is scaled in place."""
     ch = diff.shape[2]
-    spread = np.maximum(_spread(diff, outside), least)
+    spread = np.maximum(_spread(diff, outside) if own is None else own, least)
     unit = (1.0 / (spread * np.sqrt(ch))).astype(np.float32)
     diff *= unit
     if ch == 1:
