@@ -441,6 +441,35 @@ def test_ridge_takes_an_end_with_specks_of_the_board_beside_it_but_not_one_with_
     assert any(np.linalg.norm(e - tip) < 0.6 for e in ends) == taken, res.rejected
 
 
+@pytest.mark.parametrize("gap_mm, along_mm", [(0.4, 5.0), (0.4, 9.0), (0.7, 5.0), (0.7, 9.0), (2.9, 9.0)])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_ridge_sees_a_faint_thin_wire_touching_a_bright_one(gap_mm, along_mm, seed):
+    """A thin blue wire ends against the side of a glossy white one on a dark board, 5 or 9 mm
+    from its end (tray 2082). Beside a wire the threshold for something there rises with the
+    wire's own contrast (its glow and blur), and the blue wire's is under a third of the white
+    one's: the white end was taken, though the blue wire touches it. Its end 0.4 mm from the
+    white wire's side, the white end is not free (the ground truth's 0.5 mm); 0.7 mm or more
+    away, it is."""
+    from rcl.vision.scenes import Scene, WireLook, finish, paint
+
+    tip = np.array([40.0, 64.0])
+    white = Wire(tip + np.arange(0, 70.0, 0.5)[:, None] * [1.0, 0.0], 2.2, 1, (0.9,))
+    start = tip + [along_mm, 1.1 + gap_mm]  # the blue wire's flat end, gap_mm from the white one's side
+    blue = Wire(start + np.arange(0, 60.0, 0.5)[:, None] * [0.0, 1.0], 0.8, 0, (0.2,))
+    scene = Scene(512, 512, 4.0, True, 2, 2, ("straight",), (0.8, 2.2), ("white", "blue"), ("flat",), "plain",
+                  (0.12, 0.12, 0.12), 0.0, (0.0, 0.0, 0.0), (0.3, -0.3, 0.9), 0.4, 0.8, 0.0, 0.01, 0, False, 0, 0.0,
+                  False)
+    looks = [WireLook("white", (0.92, 0.92, 0.9), ("flat", "flat"), (0.0, 0.0), 0.6),
+             WireLook("blue", (0.1, 0.2, 0.75), ("flat", "flat"), (0.0, 0.0), 0.3)]
+    image = finish(scene, paint(scene, [white, blue], looks, np.full((512, 512, 3), 0.12, np.float32)),
+                   np.random.default_rng(seed))
+    truth = min(ground_truth([white, blue], np.array([128.0, 128.0])), key=lambda e: np.linalg.norm(e.point - tip))
+    assert truth.graspable == (gap_mm >= 0.5)
+    res = find_wires_ridge(image, 4.0, enough=0)
+    taken = any(np.linalg.norm(np.array(s.end) / 4.0 - tip) < 1.0 for s in res.candidates)
+    assert taken == truth.graspable, res.rejected
+
+
 def two_edges_image(starts_mm, sep_mm=2.4, body=0.87, angle=15.0, ppm=4.0, size=512):
     """Two dark lines 0.6 mm wide, sep_mm apart (centre to centre), 70 mm long from starts_mm
     along them, on a light board (0.85); between them, where both run, the grey `body` (None:

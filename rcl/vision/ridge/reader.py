@@ -61,6 +61,10 @@ EDGE_SHARE = 0.5  # ... unless only in the band nearest the wire, fainter than t
 EDGE_SPREAD_MM = 5.0  # ... and spread along this much of the span at least (not one thing in one place)
 CAP_HITS = 3  # beyond the tip and round the grasp point: so many samples with contrast are something
 DISC_HITS = 4
+CROSS_SHARE = 0.1  # beside a wire of strong contrast, something this share of it (CROSS_FLOOR spreads at
+CROSS_FLOOR = 6.0  # least) across all three bands alike (CROSS_FLAT) over no more than CROSS_MM of the
+CROSS_FLAT = 0.5  # span is a fainter thing touching it (a thin wire's end): the threshold beside it,
+CROSS_MM = 4.0  # BOARD_SHARE of its contrast, is for its own glow and blur
 ROOM_BAND_MM = (1.0, 2.0, 3.0)  # the room round a free end: bands this far out from the wire's edges along the span
 ROOM_CAP_MM = (1.5, 3.0)  # ... arcs this far beyond its tip
 ROOM_PERCENTILE = 95.0  # ... each band and the disc round the grasp point judged by its nearly-highest contrast
@@ -575,6 +579,10 @@ class EndReader:
             self._drop_specks(runs, band.reshape(len(line), 2, 3, 2), line, half, board, level, need)
             if _runs_on(runs, need):
                 return BESIDE
+        low = max(CROSS_FLOOR, CROSS_SHARE * level)
+        if low < board and self._faint_across(values[:nb].reshape(len(line), 2, 3), band.reshape(len(line), 2, 3, 2),
+                                              line, half, low, level, need):
+            return BESIDE
         if np.count_nonzero(hit[nb:nb + nc]) >= CAP_HITS:
             return "something lies just beyond its end"
         if np.count_nonzero(in_disc) >= DISC_HITS:  # (specks there leave the fingers room)
@@ -583,6 +591,31 @@ class EndReader:
         if np.count_nonzero(in_disc) >= DISC_HITS:
             return NO_ROOM
         return ""
+
+    def _faint_across(self, values: np.ndarray, band: np.ndarray, line: np.ndarray, half: float, low: float,
+                      level: float, need: int) -> bool:
+        """Whether something fainter than the threshold beside a wire of strong contrast lies
+        across the bands beside its span (`values` at the points `band`: rows along `line`, its
+        two sides, the bands out from it): a thin wire of less contrast that touches it. Such a
+        thing stands `low` or more in all three bands, as much in each (within CROSS_FLAT: the
+        wire's own glow and blur fade outward, and what starts further out rises), over a stretch
+        of the span no longer than CROSS_MM (what runs along the wire is its halo or shadow, and
+        the main test's to see), and is no speck of the board."""
+        from scipy import ndimage
+
+        mm = self.wppm
+        v = ndimage.maximum_filter1d(values, 3, axis=0, mode="nearest")  # (a thin thing slants across the bands)
+        across = (v >= low).all(axis=2) & (v.min(axis=2) >= CROSS_FLAT * v.max(axis=2))
+        for k in (0, 1):
+            edges = np.flatnonzero(np.diff(np.concatenate(([0], across[:, k].astype(np.int8), [0]))))
+            for a, b in zip(edges[::2], edges[1::2]):
+                if b - a > CROSS_MM * mm:
+                    across[a:b, k] = False
+        if not _runs_on(across, need):
+            return False
+        runs = np.repeat(across[:, :, None], 3, axis=2)
+        self._drop_specks(runs, band, line, half, low, level, need)
+        return _runs_on(runs, need)
 
     def _drop_specks(self, runs: np.ndarray, band: np.ndarray, line: np.ndarray, half: float, board: float,
                      level: float, need: int) -> None:
