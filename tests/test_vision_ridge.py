@@ -445,9 +445,10 @@ def test_ridge_takes_an_end_with_specks_of_the_board_beside_it_but_not_one_with_
 @pytest.mark.parametrize("seed", [0, 1])
 def test_ridge_sees_a_faint_thin_wire_touching_a_bright_one(gap_mm, along_mm, seed):
     """A thin blue wire ends against the side of a glossy white one on a dark board, 5 or 9 mm
-    from its end (tray 2082). Beside a wire the threshold for something there rises with the
-    wire's own contrast (its glow and blur), and the blue wire's is under a third of the white
-    one's: the white end was taken, though the blue wire touches it. Its end 0.4 mm from the
+    from its end (tray 2082: 7 mm). Beside a wire the threshold for something there rises with the
+    wire's own contrast (its glow and blur): 19.5 spreads beside the white wire, whose own is 65,
+    and the blue wire stands 13, 16 and 21 in the three bands there, in the outer one alone over
+    it: the white end was taken, though the blue wire touches it. Its end 0.4 mm from the
     white wire's side, the white end is not free (the ground truth's 0.5 mm); 0.7 mm or more
     away, it is."""
     from rcl.vision.scenes import Scene, WireLook, finish, paint
