@@ -554,12 +554,14 @@ class EndReader:
         # beside the span, something that goes on for RUN_MM along it (a speck of the board's
         # texture or a thin printed line does not)
         runs = hit[:nb].reshape(len(line), 2, 3).copy()
+        beside = values[:nb].reshape(len(line), 2, 3)  # (rows along the span, its two sides, the bands)
+        at = band.reshape(len(line), 2, 3, 2)  # ... and where they were sampled
         # but on a side where only the band nearest the wire sees anything, faint beside the wire
         # and all along it, that is the wire's own edge (a round wire's flank of nearly the board's
         # shade, which its width leaves out) or its soft shadow: another wire near enough to touch
         # is wide enough to reach the bands further out too; and so is what lies that near the
         # wire on that side in the disc round the grasp point
-        inner = values[:nb].reshape(len(line), 2, 3)[:, :, 0]
+        inner = beside[:, :, 0]
         in_disc = hit[nb + nc:].copy()
         across = None  # each disc point's signed distance from the line, along its normal there
         for k, sign in ((0, -1.0), (1, 1.0)):
@@ -576,12 +578,11 @@ class EndReader:
                 in_disc &= ~((on_side > 0) & (on_side < offs[-1]))
         need = max(round(RUN_MM * mm), 2)
         if _runs_on(runs, need):
-            self._drop_specks(runs, band.reshape(len(line), 2, 3, 2), line, half, board, level, need)
+            self._drop_specks(runs, at, line, half, board, level, need)
             if _runs_on(runs, need):
                 return BESIDE
         low = max(CROSS_FLOOR, CROSS_SHARE * level)
-        if low < board and self._faint_across(values[:nb].reshape(len(line), 2, 3), band.reshape(len(line), 2, 3, 2),
-                                              line, half, low, level, need):
+        if low < board and self._faint_across(beside, at, line, half, low, level, need):
             return BESIDE
         if np.count_nonzero(hit[nb:nb + nc]) >= CAP_HITS:
             return "something lies just beyond its end"
@@ -607,8 +608,7 @@ class EndReader:
         v = ndimage.maximum_filter1d(values, 3, axis=0, mode="nearest")  # (a thin thing slants across the bands)
         across = (v >= low).all(axis=2) & (v.min(axis=2) >= CROSS_FLAT * v.max(axis=2))
         for k in (0, 1):
-            edges = np.flatnonzero(np.diff(np.concatenate(([0], across[:, k].astype(np.int8), [0]))))
-            for a, b in zip(edges[::2], edges[1::2]):
+            for a, b in _stretches(across[:, k]):
                 if b - a > CROSS_MM * mm:
                     across[a:b, k] = False
         if not _runs_on(across, need):
@@ -628,8 +628,7 @@ class EndReader:
             seen = runs[:, k, :].any(axis=1)
             if not seen.any():
                 continue
-            edges = np.flatnonzero(np.diff(np.concatenate(([0], seen.astype(np.int8), [0]))))
-            for a, b in zip(edges[::2], edges[1::2]):  # each stretch of hits, rows a to b - 1
+            for a, b in _stretches(seen):  # each stretch of hits, rows a to b - 1
                 if b - a > SPECK_MM * mm or not _runs_on(runs[a:b, k:k + 1, :], need):
                     continue
                 specks = self._specks(band[(a + b - 1) // 2, k, 1], 3.0 * mm, line, half, board, level)
@@ -724,6 +723,12 @@ class EndReader:
         end_angle = math.degrees(math.atan2(inward[0], inward[1]))
         grasp_angle = math.degrees(math.atan2(tangent[0], tangent[1])) % 180.0
         return Sighting(to_input(tip), end_angle, to_input(grasp), grasp_angle, score)
+
+
+def _stretches(mask: np.typing.ArrayLike) -> list[tuple[int, int]]:
+    """Each run of True in a 1-d mask, as (first index, one past the last)."""
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], np.asarray(mask, np.int8), [0]))))
+    return list(zip(edges[::2].tolist(), edges[1::2].tolist()))
 
 
 def _runs_on(hits: np.ndarray, need: int) -> bool:
