@@ -1072,3 +1072,43 @@ def test_two_tones_near_black_do_not_make_a_tone_brighter_than_white():
     assert tones is not None and tones.max() <= 0.12
     f = contrast.contrast(work, 2.0, None, 1).f
     assert np.percentile(f[180:, :], 99) < 4.0
+
+
+def patch_image(patch, wire=0.15, board=0.8, wire_from=20.0, ppm=4.0, size=512):
+    """A wire 2.2 mm wide along row 64 mm from `wire_from` to 100 mm, on a board; left of 45 mm
+    (the whole height) the scene is `patch` (a grey, or None: the board), drawn under the wire."""
+    from scipy import ndimage
+
+    yy, xx = np.mgrid[0:size, 0:size] / ppm
+    img = np.full((size, size), board)
+    if patch is not None:
+        img[xx < 45.0] = patch
+    img[(xx >= wire_from) & (xx <= 100.0) & (np.abs(yy - 64.0) <= 1.1)] = wire
+    img = ndimage.gaussian_filter(img, 0.8) + np.random.default_rng(0).normal(0, 0.01, img.shape)
+    return np.clip(img, 0, 1).astype(np.float32)
+
+
+@pytest.mark.parametrize("patch, wire, board, wire_from, tip_mm, hidden", [
+    (0.15, 0.15, 0.8, 20.0, 45.0, True),  # a dark wire runs on over a patch of its own colour
+    (0.18, 0.15, 0.8, 20.0, 45.0, True),  # ... nearly its colour
+    (0.85, 0.9, 0.5, 20.0, 45.0, True),  # a light wire onto a light patch
+    (None, 0.15, 0.8, 20.0, 20.0, False),  # its true end on the board
+    (0.5, 0.15, 0.8, 45.0, 45.0, False),  # its end against a patch between its colour and the board's
+    (0.36, 0.62, 0.85, 47.0, 47.0, False),  # an end 2 mm from a dark rim: board and rim mix to the wire's grey
+])
+def test_ridge_hidden_sees_a_wire_run_onto_a_patch_of_its_own_colour(patch, wire, board, wire_from, tip_mm, hidden):
+    """Seen on a workshop photograph (cables_segmentation): a black cable in front of a black
+    chair; the board's estimate follows the chair, the cable's contrast ends at the chair's edge
+    and that was taken for the cable's end. EndReader.hidden compares raw colours: past the tip,
+    every point the wire's own colour (where the board beside it is not) means the wire may go
+    on unseen; a board that only mixes to the wire's colour (a rim 2 mm past the tip) does not."""
+    from rcl.vision.ridge import _look
+
+    image = patch_image(patch, wire, board, wire_from)
+    *_, reader = _look(image, 4.0)
+    mm = reader.wppm
+    tip = np.array([64.0, tip_mm]) * mm - 0.5 * (reader.k - 1) / reader.k
+    line = tip + np.arange(2.0, 12.0, 0.5)[:, None] * mm * np.array([0.0, 1.0])
+    level = float(np.median(reader.sample(line)))
+    assert level > 10.0  # the wire stands out where it is read
+    assert reader.hidden(tip, np.array([0.0, 1.0]), 2.2 * mm, level) == hidden

@@ -65,6 +65,10 @@ CROSS_SHARE = 0.1  # beside a wire of strong contrast, something this share of i
 CROSS_FLOOR = 6.0  # least) across all three bands alike (CROSS_FLAT) over no more than CROSS_MM of the
 CROSS_FLAT = 0.5  # span is a fainter thing touching it (a thin wire's end): the threshold beside it,
 CROSS_MM = 4.0  # BOARD_SHARE of its contrast, is for its own glow and blur
+HIDDEN_AHEAD_MM = (1.0, 3.0)  # straight past a tip, the image this far out
+HIDDEN_SHARE = 0.2  # ... each point nearer the wire's own colour (1-4 mm in from the tip) than this share of
+HIDDEN_MM = 1.5  # the board's beside it, this far out from its edges: the wire may go on, unseen on a patch of its colour
+HIDDEN_SIDE = 0.2  # (asked only where the wire differs from the board beside it by this share of its contrast)
 ROOM_BAND_MM = (1.0, 2.0, 3.0)  # the room round a free end: bands this far out from the wire's edges along the span
 ROOM_CAP_MM = (1.5, 3.0)  # ... arcs this far beyond its tip
 ROOM_PERCENTILE = 95.0  # ... each band and the disc round the grasp point judged by its nearly-highest contrast
@@ -241,6 +245,8 @@ class EndReader:
             on_axis = full[0]
         near = (s >= (GRASP_MM - TANGENT_MM) * mm) & (s <= (GRASP_MM + TANGENT_MM) * mm)
         tangent = principal_direction(full[near]) if near.sum() >= 3 else inward
+        if not gap and self.hidden(on_axis, inward, width, level):
+            return "past its end the image has the wire's own colour: it may go on unseen"
         span = self.span(full, grasp, width)
         why = self.crowded(span, tip, out, width, board, level)
         if why:
@@ -252,6 +258,29 @@ class EndReader:
         if np.any(tip != insulation):  # a tip found along a faint conductor is the less sure
             score *= CONDUCTOR_DOUBT
         return self.sighting(on_axis, inward, grasp, tangent, score)
+
+    def hidden(self, tip: np.ndarray, inward: np.ndarray, width: float, level: float) -> bool:
+        """Whether past the tip the image has the wire's own colour where the board beside the wire
+        has not: a line's end where it runs onto a patch of the scene as dark (or as light) as the
+        wire, which the board's estimate follows, so the contrast ends while the wire may not (a
+        cable in front of a dark chair, a key's edge running into the key). Colours are compared
+        raw, in F's units: the wire's mean on its axis 1-4 mm in from the tip, the board's beside
+        that stretch HIDDEN_MM out from the wire's edges (on each side), and every point on the
+        axis HIDDEN_AHEAD_MM past the tip (each, not their mean: board and a rim's dark mix to
+        any colour)."""
+        mm = self.wppm
+        side = np.array([-inward[1], inward[0]])
+        inner = tip + np.arange(1.0, 4.01, 0.5)[:, None] * mm * inward
+        ahead = tip - np.arange(HIDDEN_AHEAD_MM[0], HIDDEN_AHEAD_MM[1] + 0.01, 0.5)[:, None] * mm * inward
+        off = (width / 2 + HIDDEN_MM * mm) * side
+        work = self.con.work if self.con.work.ndim == 3 else self.con.work[:, :, None]
+        values = bilinear(work, np.vstack([inner, inner + off, inner - off, ahead])) * self.con.unit
+        n = len(inner)
+        wire = values[:n].mean(axis=0)
+        beside = min(float(np.linalg.norm(values[n:2 * n].mean(axis=0) - wire)),
+                     float(np.linalg.norm(values[2 * n:3 * n].mean(axis=0) - wire)))
+        past = float(np.linalg.norm(values[3 * n:] - wire, axis=1).max())
+        return beside >= HIDDEN_SIDE * level and past < HIDDEN_SHARE * beside
 
     def middle(self, p: np.ndarray, bow: float = MIDDLE_BOW):
         """A Sighting to take the wire by its middle at centre-line point p, or None (refused):
