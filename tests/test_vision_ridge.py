@@ -1107,6 +1107,7 @@ def test_ridge_hidden_sees_a_wire_run_onto_a_patch_of_its_own_colour(patch, wire
     image = patch_image(patch, wire, board, wire_from)
     *_, reader = _look(image, 4.0)
     mm = reader.wppm
+    # (row, col) in working px: input pixel p lies at (p + 0.5) / k - 0.5, and 1 mm is ppm input px
     tip = np.array([64.0, tip_mm]) * mm - 0.5 * (reader.k - 1) / reader.k
     line = tip + np.arange(2.0, 12.0, 0.5)[:, None] * mm * np.array([0.0, 1.0])
     level = float(np.median(reader.sample(line)))
