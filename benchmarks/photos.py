@@ -287,9 +287,13 @@ def main() -> None:
             masks = masks_of()
             if not masks:
                 continue
+            image = read_image(path)  # (the right way up, as its labels were drawn)
+            if masks[0].shape != image.shape[:2]:
+                print(f"{path}: its labels are {masks[0].shape[1]} x {masks[0].shape[0]} px, the image "
+                      f"{image.shape[1]} x {image.shape[0]}: left out", file=sys.stderr)
+                continue
             ppm = median_width(masks) / args.diameter_mm
             ppms.append(ppm)
-            image = read_image(path)
             tray = Truth(masks, ppm).tray(image)
             inside = "with a graspable end" if any(e.graspable for e in tray.ends) else "without one"
             for m in methods:

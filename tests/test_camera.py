@@ -296,6 +296,22 @@ def test_read_image_handles_formats_and_refuses_junk(tmp_path):
             read_image(tmp_path / name)
 
 
+def test_read_image_turns_a_photograph_the_right_way_up(tmp_path):
+    """A phone's photograph holds its pixels as the sensor saw them and an EXIF orientation that
+    says how to turn them (6: a quarter turn clockwise); labels made on it, and what a user sees
+    in any viewer, are upright. (mBEST S2's img8 is such a file: its labels did not fit.)"""
+    raw = np.zeros((20, 30, 3), np.uint8)
+    raw[0, 0] = 255  # the sensor's first pixel, seen at the top right once turned
+    exif = Image.Exif()
+    exif[0x0112] = 6
+    Image.fromarray(raw).save(tmp_path / "turned.png", exif=exif)
+    Image.fromarray(raw).save(tmp_path / "plain.png")
+    turned = read_image(tmp_path / "turned.png")
+    assert turned.shape == (30, 20, 3)
+    assert turned[0, -1].min() == 1.0 and turned.sum() == 3.0
+    np.testing.assert_array_equal(read_image(tmp_path / "plain.png"), raw / 255.0)
+
+
 def test_image_files_camera_reads_a_folder_in_order(tmp_path):
     for i in range(3):
         Image.fromarray(np.full((4, 4), i * 100, np.uint8)).save(tmp_path / f"img{i}.png")

@@ -3,7 +3,8 @@
 Images are numpy arrays of float64 in [0, 1]: (rows, columns) for grey,
 (rows, columns, 3) for colour. 8- and 16-bit, palette, bilevel, grey+alpha,
 RGBA, CMYK and float images are accepted; anything else is an ImageError
-with a message a user can act on.
+with a message a user can act on. A file whose EXIF data says the camera was
+turned (a phone's photograph) is read the right way up, as a viewer shows it.
 """
 from __future__ import annotations
 
@@ -24,7 +25,7 @@ MAX_PIXELS = 40_000_000  # an image larger than this (a 6,300 x 6,300 frame) is 
 def read_image(path: str | Path) -> np.ndarray:
     import warnings
 
-    from PIL import Image, UnidentifiedImageError
+    from PIL import Image, ImageOps, UnidentifiedImageError
 
     try:
         with warnings.catch_warnings():
@@ -35,7 +36,7 @@ def read_image(path: str | Path) -> np.ndarray:
                     raise ImageError(f"{path} is {w} x {h} px, more than the {MAX_PIXELS:,} pixels "
                                      f"rcl reads (a camera's image of a tray is far smaller)")
                 im.load()
-                return image_array(im)
+                return image_array(ImageOps.exif_transpose(im))
     except ImageError:
         raise
     except FileNotFoundError:
