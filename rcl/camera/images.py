@@ -36,7 +36,8 @@ def read_image(path: str | Path) -> np.ndarray:
                     raise ImageError(f"{path} is {w} x {h} px, more than the {MAX_PIXELS:,} pixels "
                                      f"rcl reads (a camera's image of a tray is far smaller)")
                 im.load()
-                return image_array(ImageOps.exif_transpose(im))
+                ImageOps.exif_transpose(im, in_place=True)  # the right way up (no copy when it is)
+                return image_array(im)
     except ImageError:
         raise
     except FileNotFoundError:
