@@ -1,7 +1,7 @@
 """First picks on public photographs of wires, judged against their labels. Run by hand:
 
     python benchmarks/photos.py PATH [--methods ridge,grey,binary] [--part held-out|tune|all]
-                                [--diameter-mm 2.5] [--limit N] [--show DIR]
+                                [--diameter-mm 2.5] [--limit N] [--show DIR] [--failures]
 
 PATH is a folder holding one or more of these public sets, fetched as docs/vision.md says
 (none of their files is in this repository: no licence to redistribute, or GPL):
@@ -26,7 +26,9 @@ within 1.5 mm, the direction within 20 degrees, the grasp point on that wire 11-
 with the tangent within 15 degrees, or no pick where nothing is graspable; foul any other
 pick; miss no pick where something was graspable. Every third image (by sorted name) is the
 tuning part, the rest are held out; the table is printed for the chosen part, split into
-images with a graspable end inside the frame and images without one.
+images with a graspable end inside the frame and images without one. --failures lists, under
+each table, every image whose first pick was not correct: method, verdict, the end's error (mm)
+and direction error (degrees) where there was a pick.
 """
 from __future__ import annotations
 
@@ -264,6 +266,7 @@ def main() -> None:
     ap.add_argument("--diameter-mm", type=float, default=2.5)
     ap.add_argument("--limit", type=int, default=0)
     ap.add_argument("--show", type=Path, help="write an overlay per image (the first method) here")
+    ap.add_argument("--failures", action="store_true", help="list every image whose first pick was not correct")
     args = ap.parse_args()
     from rcl.camera import read_image
 
@@ -283,6 +286,7 @@ def main() -> None:
         counts = {m: collections.Counter() for m in methods}
         times = {m: [] for m in methods}
         ppms = []
+        failures = []
         for path, masks_of in chosen:
             masks = masks_of()
             if not masks:
@@ -301,8 +305,11 @@ def main() -> None:
                 res = find_wires(image, m, ppm)
                 times[m].append((time.perf_counter() - t) * 1000)
                 pick = res.candidates[0] if res.candidates else None
-                verdict = tray.judge(pick)[0]
+                verdict, err, ang = tray.judge(pick)
                 counts[m][(inside, verdict)] += 1
+                if verdict != "correct":
+                    how = f"end {err:.1f} mm, direction {ang:.0f} deg off" if err is not None else "no pick"
+                    failures.append(f"  {m:<7} {verdict:<5} {Path(path).name}: {how}")
                 if args.show and m == methods[0]:
                     _show(args.show, name, path, image, res, tray, verdict)
         print(f"\n{name}: {len(ppms)} images, px/mm {np.median(ppms):.1f} median")
@@ -316,6 +323,9 @@ def main() -> None:
                 pc = [f"{100 * c[(inside, v)] / n:.0f}%" for v in ("correct", "foul", "miss")]
                 print(f"  {m:<7} {inside:<22} {n:>4} {pc[0]:>8} {pc[1]:>6} {pc[2]:>6} "
                       f"{np.median(times[m]):6.1f}")
+        if args.failures and failures:
+            print("  not correct:")
+            print("\n".join(failures))
     if not found_any:
         print(f"no known set under {args.path} (see docs/vision.md)", file=sys.stderr)
         sys.exit(1)
