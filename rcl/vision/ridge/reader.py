@@ -273,8 +273,7 @@ class EndReader:
         inner = tip + np.arange(1.0, 4.01, 0.5)[:, None] * mm * inward
         ahead = tip - np.arange(HIDDEN_AHEAD_MM[0], HIDDEN_AHEAD_MM[1] + 0.01, 0.5)[:, None] * mm * inward
         off = (width / 2 + HIDDEN_MM * mm) * side
-        work = self.con.work if self.con.work.ndim == 3 else self.con.work[:, :, None]
-        values = bilinear(work, np.vstack([inner, inner + off, inner - off, ahead])) * self.con.unit
+        values = bilinear(self.con.work, np.vstack([inner, inner + off, inner - off, ahead])) * self.con.unit
         n = len(inner)
         wire = values[:n].mean(axis=0)
         beside = min(float(np.linalg.norm(values[n:2 * n].mean(axis=0) - wire)),
