@@ -95,3 +95,19 @@ def lit_wires(wires, size=(512, 512), ppm=4.0, board=0.8, gloss=0.5, shadow=0.25
     under = np.broadcast_to(np.array((board,) * 3, np.float32), (h, w, 3)).copy()
     image = finish(scene, paint(scene, drawn, looks, under), np.random.default_rng(0))
     return image.mean(axis=2) if image.ndim == 3 else image, lines
+
+
+def assert_both_ends_at_tips(candidates, centre, ppm: float = 4.0) -> None:
+    """Both ends of a straight wire drawn by lit_wires (its centre line in mm, from one tip to the
+    other) are among the candidates: each within 0.8 mm of its tip, pointing into the wire to
+    10 degrees."""
+    import math
+
+    import numpy as np
+
+    for tip, inward in ((centre[0], centre[1] - centre[0]), (centre[-1], centre[-2] - centre[-1])):
+        near = [s for s in candidates if np.linalg.norm(np.array(s.end) / ppm - tip) < 3.0]
+        assert near, f"the end at {tip} is not seen"
+        assert np.linalg.norm(np.array(near[0].end) / ppm - tip) < 0.8
+        a = math.radians(near[0].end_angle)
+        assert np.dot([math.cos(a), math.sin(a)], inward / np.linalg.norm(inward)) > math.cos(math.radians(10))

@@ -1,11 +1,9 @@
 """Vision: the paper's thinning criterion, the thinning itself, and the binary system on generated trays."""
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
-from conftest import lit_wires
+from conftest import assert_both_ends_at_tips, lit_wires
 from scipy import ndimage
 
 from rcl.vision.binary import NEIGHBOURS, critically_connected, find_wires_binary, papers_expression, thin
@@ -86,12 +84,7 @@ def test_binary_places_a_glossy_shadowed_wires_ends_at_its_tips(board, shadow):
     up to 2.2 mm out onto the tray)."""
     image, (centre,) = lit_wires([((30.0, 40.0), 25.0, 70.0, 2.8)], board=board, gloss=0.6, shadow=shadow)
     res = find_wires_binary(image, 4.0)
-    for tip, inward in ((centre[0], centre[1] - centre[0]), (centre[-1], centre[-2] - centre[-1])):
-        near = [s for s in res.candidates if np.linalg.norm(np.array(s.end) / 4.0 - tip) < 3.0]
-        assert near, f"the end at {tip} is not seen"
-        assert np.linalg.norm(np.array(near[0].end) / 4.0 - tip) < 0.8
-        a = math.radians(near[0].end_angle)
-        assert np.dot([math.cos(a), math.sin(a)], inward / np.linalg.norm(inward)) > math.cos(math.radians(10))
+    assert_both_ends_at_tips(res.candidates, centre)
 
 
 def test_binary_wants_room_for_the_fingers_on_every_side_of_the_grasp_point():

@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import lit_wires
+from conftest import assert_both_ends_at_tips, lit_wires
 
 from rcl.vision import VisionError, find_wires
 from rcl.vision.grey import STEPS, chain_points, edge_at, edges, find_wires_grey
@@ -61,6 +61,20 @@ def test_boundaries_are_freeman_chains_and_an_isolated_wire_closes():
     assert {tuple(s) for s in steps.astype(int).tolist()} <= set(STEPS)
     assert np.abs(pts[0] - pts[-1]).max() <= 1  # round the whole wire and back
     assert len(res.candidates) == 2  # both ends
+
+
+@pytest.mark.parametrize("blur", [0.0, 2.0])
+def test_grey_passes_over_an_ends_own_blurred_edge_in_front_of_it(blur):
+    """A lone round black wire casting a soft shadow, sharp or slightly out of focus: in front of
+    its end face the grey rises to the tray's over more than the 2.5 px where the isolation test
+    looked for other things, and that rise (an edge going on away from the wire's level, ending
+    where the tray is flat) is the end's own edge, not something beyond it. Before it was passed
+    over, one of the two ends was refused as not isolated."""
+    from scipy import ndimage
+
+    image, (centre,) = lit_wires([((30.0, 40.0), 25.0, 70.0, 2.0)], board=0.8, gloss=0.3, shadow=0.25)
+    res = find_wires_grey(ndimage.gaussian_filter(image, blur) if blur else image, 4.0)
+    assert_both_ends_at_tips(res.candidates, centre)
 
 
 @pytest.mark.slow

@@ -34,7 +34,8 @@ rather than fixed; the isolation test uses the working image's edges, not the
 sides of a candidate end must stay parallel and the wire's width constant to the
 grasp point (a wire that merges with another is not free); a faint edge beside the
 wire across which the grey goes on away from the wire's level is its shadow, not
-another wire (SHADOW_EDGE); an end whose boundary
+another wire (SHADOW_EDGE), and in front of an end, its own blurred edge rising to a flat
+tray is passed over before the isolation test looks there (END_BLUR_MM); an end whose boundary
 turns round in front of a thinner, brighter continuation (a stripped conductor or
 ferrule) is moved out to the conductor's tip; the unit lengths scale with the
 working image's px/mm when an image is not 2 px/mm after averaging.
@@ -71,6 +72,8 @@ PARALLEL_TOL_PX = 1.5  # the sides are parallel while the width stays within thi
 PARALLEL_TOL_SHARE = 0.35  # ... or this share of it, whichever is more
 TANGENT_MM = 3.0  # the tangent at the grasp point: over the centre line this far either side
 BORDER_MM = 3.0  # the end and the span at least this far from the image's border
+END_BLUR_MM = 2.0  # in front of an end, its own blurred edge is passed over for up to this far
+END_FLAT = 0.2  # ... where past it the grey stays within this share of the step from the wire
 
 # Freeman chain code directions: 0 = E, anticlockwise as seen on the screen (row - 1 is up).
 STEPS = ((0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1), (1, 0), (1, 1))
@@ -526,7 +529,7 @@ class _Looks:
         # beyond the end: a short fan in front of the end face
         out = -inward
         side = np.array([-out[1], out[0]])
-        offsets = np.arange(2.5, 2.5 + FREE_MM * ppm + 1)
+        offsets = np.arange(2.5, 2.5 + FREE_MM * ppm + 1) + self._end_blur(end, out, own)
         lateral = np.linspace(-width / 2, width / 2, 3)
         p = end[None, None, :] + out[None, None, :] * offsets[:, None, None] + side * lateral[None, :, None]
         r = np.clip(np.round(p[..., 0]).astype(int), 0, h - 1)
@@ -538,6 +541,36 @@ class _Looks:
             return None
         return float(free[near_grasp].min())
 
+
+    def _end_blur(self, end: np.ndarray, out: np.ndarray, own: float) -> float:
+        """How much farther (px) than 2.5 px from the end face its own blurred edge goes on, on the
+        axis outward (out): the run of edge samples across which the grey moves on away from the
+        wire's level (lighter, out from a dark wire), up to END_BLUR_MM; 0 unless the grey past
+        that run is flat for 2 mm (within END_FLAT of the step from the wire): the end's own
+        edge ends at the tray, while a dull metal tip's first edge ends on a plateau between
+        the two, with its own end to follow. own: see _clearance."""
+        if not own or self.gc is None or self.gr is None:
+            return 0.0
+        h, w = self.mag.shape
+
+        def at(offsets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            p = end[None, :] + out[None, :] * offsets[:, None]
+            return np.clip(np.round(p[:, 0]).astype(int), 0, h - 1), np.clip(np.round(p[:, 1]).astype(int), 0, w - 1)
+
+        steps = np.arange(2.5, 2.5 + END_BLUR_MM * self.ppm, 1.0)
+        r, q = at(steps)
+        rise = self.gr[r, q] * out[0] + self.gc[r, q] * out[1]
+        away = (rise > 0 if own > 0 else rise < 0) & (self.mag[r, q] > self.t)
+        run = int(np.argmin(away)) if not away.all() else len(away)
+        if not run:
+            return 0.0
+        start = steps[min(run, len(steps) - 1)]
+        past = self.work[at(np.arange(start, start + 2.0 * self.ppm, 1.0))]
+        wire = float(self.work[at(np.array([-2.0]))][0])
+        tray = float(past.max() if own > 0 else past.min())
+        if abs(tray - float(past[0])) > END_FLAT * abs(tray - wire):
+            return 0.0
+        return float(run)
 
     def _edge(self, r: np.ndarray, q: np.ndarray, outward: np.ndarray, own: float) -> np.ndarray:
         """Whether each working pixel (r, q) holds an edge that is not the wire's own soft
