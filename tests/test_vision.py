@@ -105,10 +105,10 @@ def test_binary_wants_room_for_the_fingers_on_every_side_of_the_grasp_point():
 def test_binary_refuses_an_end_something_touches_on_the_slices_it_was_made_for():
     """Dark or light wires of one polarity on a plain board (random_tray's plain_dark and
     plain_bright, 80 trays each at seeds not tuned on): an end that another wire, or the same
-    wire looping back, lies against is not free, though its skeleton runs on without a
+    wire looping back, lies against within its first 20 mm is not free, though its skeleton runs on without a
     crossing (the two merge in the mask). Before the binary system asked for its own mask along
-    the end's first 18 mm, 11 first picks here were fouls (2 at such ends, 3 with no room for
-    the fingers); now 6, none at such ends."""
+    the end's first 20 mm, 11 first picks here were fouls (2 at such ends, 3 with no room for
+    the fingers); now 7, none at such ends."""
     from rcl.vision.scenes import random_tray
 
     fouls, touching = 0, 0
@@ -123,7 +123,7 @@ def test_binary_refuses_an_end_something_touches_on_the_slices_it_was_made_for()
             end = np.array(pick.end) / tray.px_per_mm
             truth = min(tray.ends, key=lambda e: np.linalg.norm(e.point - end))
             touching += "touches" in truth.why
-    assert fouls <= 7 and touching == 0, (fouls, touching)
+    assert fouls <= 8 and touching == 0, (fouls, touching)
 
 
 def test_binary_copes_with_blank_noise_and_tiny_images():

@@ -25,7 +25,7 @@ stripped conductor's tip beyond it; the directions are fitted over 2 * END_PX
 skeleton points and TANGENT_PX either side of the grasp point instead of the
 paper's 3 and 2 (at ~1 mm a pixel those quantise to tens of degrees); nothing but
 the wire may lie within FINGER_CLEARANCE_MM of the grasp point, on any side; and along
-the end's first GRASP_MM + 3 mm, the mask TOUCH_PX past the wire's half width must be its
+the end's first TOUCH_SPAN_MM, the mask TOUCH_PX past the wire's half width must be its
 own (another wire, or the wire looping back, may lie against its end and merge with it in
 the mask, the skeleton running on without a crossing).
 """
@@ -55,7 +55,8 @@ EDGE_FACTOR = 4.0
 TANGENT_PX = 4  # the paper takes +-2 skeletal points; at ~1 mm per pixel that quantises to tens of degrees
 END_PX = 4  # likewise the end direction: fitted over the first 8 px (the paper: from the end to 3 px in)
 BORDER_PX = 2  # skeleton ends this close to the border of the averaged image are cut by it
-TOUCH_PX = 1.5  # along the end's first GRASP_MM + 3 mm, the mask this far past the wire's half width must be its own
+TOUCH_SPAN_MM = GRASP_MM + 5.0  # along the end's first 20 mm (the ground truth's span), the mask
+TOUCH_PX = 1.5  # ... this far past the wire's half width must be the wire's own
 
 # The 3x3 neighbours, numbered as in the paper: 1 = E, then anticlockwise to 8 = SE.
 # (row, column) offsets; rows grow downwards, so N is row - 1.
@@ -386,7 +387,7 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
         own = {p[0] * w + p[1] for p in path[max(g - reach_px - 2, 0):]}
         if _other_wire_near(mask, nearest, width / (2 * k), grasp, disc, own):
             continue
-        if _touched(mask, nearest, width / (2 * k), path, need):
+        if _touched(mask, nearest, width / (2 * k), path, arc):
             continue  # another wire, or this one looping back, touches it near its end
         out.append(Sighting(end_uv, end_angle, tuple(to_input(grasp, k).tolist()), tangent, score=clearance))
     out.sort(key=lambda s: -s.score)
@@ -424,19 +425,21 @@ def _other_wire_near(mask: np.ndarray, nearest: np.ndarray, half: float, at: tup
     return False
 
 
-def _touched(mask: np.ndarray, nearest: np.ndarray, half: float, path: list, need: int) -> bool:
-    """Whether something touches the wire along its first `need` skeleton pixels from its end
-    (path): a mask pixel within the wire's half width and TOUCH_PX of that stretch whose nearest
-    skeleton pixel is not on it (nor within that reach past it): another wire merged with it in
-    the mask, or the same wire further on, looping back to lie against its end."""
+def _touched(mask: np.ndarray, nearest: np.ndarray, half: float, path: list, arc: np.ndarray) -> bool:
+    """Whether something touches the wire along its first TOUCH_SPAN_MM from its end (path, the
+    skeleton from the end, arc: mm along it): a mask pixel within the wire's half width and
+    TOUCH_PX of that stretch whose nearest skeleton pixel is not on it (nor within that reach
+    past it): another wire merged with it in the mask, or the same wire further on, looping
+    back to lie against its end."""
     h, w = mask.shape
     reach = half + TOUCH_PX
     n = int(math.ceil(reach))
     ring = np.argwhere(np.hypot(*np.mgrid[-n:n + 1, -n:n + 1]) <= reach) - n
-    pts = np.unique((np.array(path[:need])[:, None, :] + ring[None, :, :]).reshape(-1, 2), axis=0)
+    m = max(int(np.count_nonzero(arc <= TOUCH_SPAN_MM)), 1)
+    pts = np.unique((np.array(path[:m])[:, None, :] + ring[None, :, :]).reshape(-1, 2), axis=0)
     pts = pts[(pts[:, 0] >= 0) & (pts[:, 0] < h) & (pts[:, 1] >= 0) & (pts[:, 1] < w)]
     pts = pts[mask[pts[:, 0], pts[:, 1]]]
-    own = np.array([r * w + c for r, c in path[:need + n + 1]])
+    own = np.array([r * w + c for r, c in path[:m + n + 1]])
     return bool(not np.isin(nearest[pts[:, 0] * w + pts[:, 1]], own).all())
 
 
