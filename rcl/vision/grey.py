@@ -541,12 +541,11 @@ class _Looks:
             return None
         return float(free[near_grasp].min())
 
-
     def _end_blur(self, end: np.ndarray, out: np.ndarray, own: float) -> float:
         """How much farther (px) than 2.5 px from the end face its own blurred edge goes on, on the
         axis outward (out): the run of edge samples across which the grey moves on away from the
-        wire's level (lighter, out from a dark wire), up to END_BLUR_MM; 0 unless the grey past
-        that run is flat for 2 mm (within END_FLAT of the step from the wire): the end's own
+        wire's level (lighter, out from a dark wire), up to END_BLUR_MM; 0 unless the grey from
+        the run's end on is flat for 2 mm (within END_FLAT of the step from the wire): the end's own
         edge ends at the tray, while a dull metal tip's first edge ends on a plateau between
         the two, with its own end to follow. own: see _clearance."""
         if not own or self.gc is None or self.gr is None:
@@ -564,7 +563,7 @@ class _Looks:
         run = int(np.argmin(away)) if not away.all() else len(away)
         if not run:
             return 0.0
-        start = steps[min(run, len(steps) - 1)]
+        start = steps[min(run, len(steps) - 1)]  # past the run (or its last sample, if it reaches END_BLUR_MM)
         past = self.work[at(np.arange(start, start + 2.0 * self.ppm, 1.0))]
         wire = float(self.work[at(np.array([-2.0]))][0])
         tray = float(past.max() if own > 0 else past.min())
