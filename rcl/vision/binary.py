@@ -327,8 +327,7 @@ def _analyse(skeleton: np.ndarray, mask: np.ndarray, mm: float, k: int, looks: _
 
     inside = ndimage.distance_transform_edt(mask)  # half the wire's width, on its skeleton
     reach_px = int(math.ceil(FINGER_CLEARANCE_MM / mm)) + 2
-    disc = np.argwhere(np.hypot(*np.mgrid[-reach_px:reach_px + 1, -reach_px:reach_px + 1]) <= FINGER_CLEARANCE_MM / mm + 0.5)
-    disc -= reach_px
+    disc = _within(FINGER_CLEARANCE_MM / mm + 0.5)
     for r, c in zip(*(a.tolist() for a in np.nonzero(counts == 1))):
         if r < BORDER_PX or c < BORDER_PX or r >= h - BORDER_PX or c >= w - BORDER_PX:
             continue  # an edge is not a wire end
@@ -411,10 +410,8 @@ def _other_wire_near(mask: np.ndarray, nearest: np.ndarray, half: float, at: tup
     is this wire's when its nearest skeleton pixel is one of own and it lies no farther from
     it than the wire's half width (half, measured near the end) and a pixel: a neighbour
     that merges with the wire in the mask bulges out past that."""
-    h, w = mask.shape
-    pts = disc + np.array(at)
-    pts = pts[(pts[:, 0] >= 0) & (pts[:, 0] < h) & (pts[:, 1] >= 0) & (pts[:, 1] < w)]
-    pts = pts[mask[pts[:, 0], pts[:, 1]]]
+    w = mask.shape[1]
+    pts = _on_mask(mask, disc + np.array(at))
     near = nearest[pts[:, 0] * w + pts[:, 1]]
     for (pr, pc), i in zip(pts.tolist(), near.tolist()):
         if i not in own:
@@ -431,16 +428,25 @@ def _touched(mask: np.ndarray, nearest: np.ndarray, half: float, path: list, arc
     TOUCH_PX of that stretch whose nearest skeleton pixel is not on it (nor within that reach
     past it): another wire merged with it in the mask, or the same wire further on, looping
     back to lie against its end."""
-    h, w = mask.shape
+    w = mask.shape[1]
     reach = half + TOUCH_PX
-    n = int(math.ceil(reach))
-    ring = np.argwhere(np.hypot(*np.mgrid[-n:n + 1, -n:n + 1]) <= reach) - n
     m = max(int(np.count_nonzero(arc <= TOUCH_SPAN_MM)), 1)
-    pts = np.unique((np.array(path[:m])[:, None, :] + ring[None, :, :]).reshape(-1, 2), axis=0)
-    pts = pts[(pts[:, 0] >= 0) & (pts[:, 0] < h) & (pts[:, 1] >= 0) & (pts[:, 1] < w)]
-    pts = pts[mask[pts[:, 0], pts[:, 1]]]
-    own = np.array([r * w + c for r, c in path[:m + n + 1]])
+    pts = _on_mask(mask, (np.array(path[:m])[:, None, :] + _within(reach)[None, :, :]).reshape(-1, 2))
+    own = np.array([r * w + c for r, c in path[:m + int(math.ceil(reach)) + 1]])
     return bool(not np.isin(nearest[pts[:, 0] * w + pts[:, 1]], own).all())
+
+
+def _within(radius: float) -> np.ndarray:
+    """The (row, column) offsets of the pixels within radius of the origin, row by row."""
+    n = int(math.ceil(radius))
+    return np.argwhere(np.hypot(*np.mgrid[-n:n + 1, -n:n + 1]) <= radius) - n
+
+
+def _on_mask(mask: np.ndarray, pts: np.ndarray) -> np.ndarray:
+    """The (row, column) points that lie inside the image and on the mask."""
+    h, w = mask.shape
+    pts = pts[(pts[:, 0] >= 0) & (pts[:, 0] < h) & (pts[:, 1] >= 0) & (pts[:, 1] < w)]
+    return pts[mask[pts[:, 0], pts[:, 1]]]
 
 
 def _clearance(mask: np.ndarray, at: tuple[int, int], tangent_deg: float, reach: int = 40) -> float:

@@ -506,7 +506,6 @@ class _Looks:
         own is the wire's own edge magnitude (its sides' median), positive for a wire darker
         than the tray, negative for a lighter one (0: count every edge)."""
         ppm = self.ppm
-        h, w = self.mag.shape
         c, a = centre, arc
         t = np.gradient(c, axis=0)
         t /= np.linalg.norm(t, axis=1, keepdims=True) + 1e-12
@@ -516,8 +515,7 @@ class _Looks:
         free = []
         for sign in (1.0, -1.0):
             p = c[:, None, :] + sign * normal[:, None, :] * reach[None, :, None]
-            r = np.clip(np.round(p[..., 0]).astype(int), 0, h - 1)
-            q = np.clip(np.round(p[..., 1]).astype(int), 0, w - 1)
+            r, q = self._pixels(p)
             hit = self._edge(r, q, sign * normal[:, None, :], own)
             hit[:, :-1] &= hit[:, 1:]  # an edge shows on two samples running; noise rarely does
             first = np.where(hit.any(axis=1), reach[np.argmax(hit, axis=1)], reach[-1] + 1)
@@ -532,8 +530,7 @@ class _Looks:
         offsets = np.arange(2.5, 2.5 + FREE_MM * ppm + 1) + self._end_blur(end, out, own)
         lateral = np.linspace(-width / 2, width / 2, 3)
         p = end[None, None, :] + out[None, None, :] * offsets[:, None, None] + side * lateral[None, :, None]
-        r = np.clip(np.round(p[..., 0]).astype(int), 0, h - 1)
-        q = np.clip(np.round(p[..., 1]).astype(int), 0, w - 1)
+        r, q = self._pixels(p)
         # in front of the end only half as faint an edge is its shadow: a metal tip too dull to
         # be seen as one (darker than the tray, lighter than the wire) shows a faint edge too
         hit = self._edge(r, q, out, 0.5 * own)
@@ -550,11 +547,9 @@ class _Looks:
         the two, with its own end to follow. own: see _clearance."""
         if not own or self.gc is None or self.gr is None:
             return 0.0
-        h, w = self.mag.shape
 
         def at(offsets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-            p = end[None, :] + out[None, :] * offsets[:, None]
-            return np.clip(np.round(p[:, 0]).astype(int), 0, h - 1), np.clip(np.round(p[:, 1]).astype(int), 0, w - 1)
+            return self._pixels(end[None, :] + out[None, :] * offsets[:, None])
 
         steps = np.arange(2.5, 2.5 + END_BLUR_MM * self.ppm, 1.0)
         r, q = at(steps)
@@ -570,6 +565,11 @@ class _Looks:
         if abs(tray - float(past[0])) > END_FLAT * abs(tray - wire):
             return 0.0
         return float(run)
+
+    def _pixels(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The working image's pixel (rows, columns) nearest each point of p (..., 2), clipped to it."""
+        h, w = self.mag.shape
+        return np.clip(np.round(p[..., 0]).astype(int), 0, h - 1), np.clip(np.round(p[..., 1]).astype(int), 0, w - 1)
 
     def _edge(self, r: np.ndarray, q: np.ndarray, outward: np.ndarray, own: float) -> np.ndarray:
         """Whether each working pixel (r, q) holds an edge that is not the wire's own soft
