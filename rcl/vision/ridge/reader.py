@@ -567,7 +567,7 @@ class EndReader:
                 * n[:, None, None, :]).reshape(-1, 2)
         # beyond the tip
         dirs = _fan(out)
-        cap = (tip[None, None, :] + (half + np.array([0.7, 1.0, 1.4]) * SIDE_FREE_MM * mm)[None, :, None]
+        cap = (tip[None, None, :] + (half + np.array([0.7, 1.0, 1.4, 2.0, 2.8]) * SIDE_FREE_MM * mm)[None, :, None]
                * dirs[:, None, :]).reshape(-1, 2)
         values = self._seen(np.vstack((band, cap, disc)))
         hit = values >= board
