@@ -28,7 +28,7 @@ pick; miss no pick where something was graspable. Every third image (by sorted n
 tuning part, the rest are held out; the table is printed for the chosen part, split into
 images with a graspable end inside the frame and images without one. --failures lists, under
 each table, every image whose first pick was not correct: method, verdict, the end's error (mm)
-and direction error (degrees) where there was a pick.
+and direction error (degrees) where there was a pick, and for a foul its cause (Tray.foul_cause).
 """
 from __future__ import annotations
 
@@ -309,6 +309,8 @@ def main() -> None:
                 counts[m][(inside, verdict)] += 1
                 if verdict != "correct":
                     how = f"end {err:.1f} mm, direction {ang:.0f} deg off" if err is not None else "no pick"
+                    if verdict == "foul":
+                        how += f": {tray.foul_cause(pick)}"
                     failures.append(f"  {m:<7} {verdict:<5} {Path(path).name}: {how}")
                 if args.show and m == methods[0]:
                     _show(args.show, name, path, image, res, tray, verdict)

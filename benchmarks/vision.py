@@ -11,6 +11,9 @@ slice its draw matches, see scenes.tags), the first pick is:
   degrees; or no pick where nothing is graspable;
 - foul: any other pick (a wrong end, or a right end picked wrongly);
 - miss: no pick although the tray has a graspable end.
+The fouls are also counted by cause (synth.Tray.foul_cause: an end that is not graspable, and
+why; a pick short of the end along its wire or past it; at no wire end; a direction, grasp
+point or tangent off).
 Also the median end and angle errors of the correct picks, the median time per image and
 per stage on 512 x 512 images (one core), the paper's slices for the binary system (dark or
 bright wires of one polarity on a plain board: plain_dark, plain_bright) and, with --old, the
@@ -37,8 +40,9 @@ def judge_one(job):
         t = time.perf_counter()
         res = find_wires(tray.image, m, tray.px_per_mm)
         ms = (time.perf_counter() - t) * 1000.0
-        verdict, err, ang = tray.judge(res.candidates[0] if res.candidates else None)
-        out[m] = (verdict, err, ang, ms, dict(res.timings))
+        pick = res.candidates[0] if res.candidates else None
+        verdict, err, ang = tray.judge(pick)
+        out[m] = (verdict, err, ang, ms, dict(res.timings), tray.foul_cause(pick) if verdict == "foul" else "")
     return out
 
 
@@ -110,11 +114,16 @@ def main() -> None:
         at512 = [r[m] for r in results if tuple(r["size"]) == (512, 512)]
         if at512:
             stages = collections.defaultdict(list)
-            for _, _, _, _, timings in at512:
+            for _, _, _, _, timings, _ in at512:
                 for k, v in timings.items():
                     stages[k].append(v)
             print(f"  512 x 512 ({len(at512)} images), median ms per stage: "
                   + ", ".join(f"{k} {np.median(v):.2f}" for k, v in stages.items()))
+        causes = collections.Counter(r[m][5] for r in results if r[m][0] == "foul")
+        if causes:
+            print(f"  the fouls by cause (Tray.foul_cause), % of the {len(results)} trays:")
+            for why, k in causes.most_common():
+                print(f"    {100 * k / len(results):5.2f}%  {k:>4}  {why}")
     print(f"\nwithin each named slice ({args.slice_trays} trays each, seeds {args.seed0}..):")
     print(f"  {'slice':<16} " + " ".join(f"{m + ' c/f/m %':>18}" for m in methods))
     sj = [(args.seed0 + i, name, methods) for name in SLICES for i in range(args.slice_trays)]

@@ -38,6 +38,36 @@ def test_material_distance_is_the_distance_to_a_flat_ended_capsule():
                                atol=0.02)
 
 
+def test_a_foul_pick_is_told_what_makes_it_foul():
+    from rcl.vision.sighting import Sighting
+    from rcl.vision.synth import Tray
+
+    # one straight 60 mm wire, 2 mm wide, along x at y = 40 mm from x = 20 (free) to x = 80
+    # (2 mm from the right border of an 82 mm image: cut by it); 4 px/mm
+    wire = Wire(np.column_stack([np.linspace(20.0, 80.0, 121), np.full(121, 40.0)]), 2.0, 0, (0.1,))
+    tray = Tray(np.zeros((328, 328)), 4.0, [wire])
+    tray.ends = ground_truth([wire], 82.0)
+    assert tray.ends[0].graspable and not tray.ends[1].graspable
+
+    def pick(x, y, angle=0.0, gx=None):  # mm; the grasp 15 mm on along +x unless given
+        return Sighting((4 * x, 4 * y), angle, (4 * (x + 15.0 if gx is None else gx), 4 * y), 0.0)
+
+    assert tray.foul_cause(pick(20.5, 40.2)) == ""
+    assert tray.judge(pick(20.5, 40.2))[0] == "correct"
+    assert tray.foul_cause(pick(26.0, 40.0)) == "short of the end along its wire"  # 6 mm in (a bare conductor)
+    assert tray.foul_cause(pick(17.5, 40.3)) == "past the end, on from its wire"  # 2.5 mm out (a shadow)
+    assert tray.foul_cause(pick(20.0, 60.0)) == "at no wire end"
+    assert tray.foul_cause(pick(20.0, 40.0, angle=30.0)) == "the direction into the wire is off"
+    assert tray.foul_cause(pick(20.0, 40.0, gx=45.0)) == "the grasp point is not 11-19 mm along"
+    assert tray.foul_cause(Sighting((80.0, 160.0), 0.0, (140.0, 175.0), 0.0)) == "the grasp point is off the wire"
+    assert tray.foul_cause(Sighting((80.0, 160.0), 0.0, (140.0, 160.0), 40.0)) == "the tangent at the grasp point is off"
+    assert tray.foul_cause(pick(80.0, 40.0, angle=180.0, gx=65.0)) == \
+        "an end not graspable: off the image or cut by its border"
+    assert tray.foul_cause(None) == "no pick"
+    for p in (pick(26.0, 40.0), pick(20.0, 60.0), pick(80.0, 40.0, angle=180.0, gx=65.0)):
+        assert tray.judge(p)[0] == "foul"
+
+
 def test_a_resampled_line_runs_evenly_from_end_to_end():
     from rcl.vision.synth import resample
 

@@ -67,10 +67,48 @@ class Tray:
         foul: any other pick. miss: no pick although something was graspable."""
         if pick is None:
             return ("correct" if not any(e.graspable for e in self.ends) else "miss"), None, None
+        m = self._measure(pick)
+        ok = m["truth"].graspable and m["err"] <= 1.5 and m["ang"] <= 20 and m["on_wire"] and 11 <= m["arc"] <= 19 \
+            and m["tan_err"] <= 15
+        return ("correct" if ok else "foul"), m["err"], m["ang"]
+
+    def foul_cause(self, pick) -> str:
+        """What makes a pick foul, in a few words ('' if it is correct), the first that holds of:
+        the end is not graspable (the ground truth's reason); the pick lies on that wire short
+        of its end or past it by more than 1.5 mm (a conductor not followed to its tip, or a
+        shadow or the board's print taken for wire); it is at no wire end at all; the direction
+        into the wire is off by more than 20 degrees; the grasp point is off the wire, or not
+        11-19 mm along it; the tangent there is off by more than 15 degrees."""
+        if self.judge(pick)[0] == "correct":
+            return ""
+        if pick is None:
+            return "no pick"
+        m = self._measure(pick)
+        truth, wire = m["truth"], self.wires[m["truth"].wire]
+        if m["err"] > 1.5:
+            if abs(m["across"]) <= wire.width / 2 + 0.75 and abs(m["along"]) <= 15.0:
+                return "short of the end along its wire" if m["along"] > 0 else "past the end, on from its wire"
+            return "at no wire end"
+        if not truth.graspable:
+            return f"an end not graspable: {truth.why}"
+        if m["ang"] > 20:
+            return "the direction into the wire is off"
+        if not m["on_wire"]:
+            return "the grasp point is off the wire"
+        if not 11 <= m["arc"] <= 19:
+            return "the grasp point is not 11-19 mm along"
+        return "the tangent at the grasp point is off"
+
+    def _measure(self, pick) -> dict:
+        """The pick against the true end nearest it: that end (truth), the end's error (err, mm)
+        and its components along the true direction into the wire and across it (along, across),
+        the direction's error (ang, degrees), whether the grasp point is on that wire (on_wire),
+        how far along it (arc, mm) and the tangent's error there (tan_err, degrees)."""
         ppm = self.px_per_mm
         end = np.array(pick.end) / ppm
         truth = min(self.ends, key=lambda e: np.linalg.norm(e.point - end))
-        err = float(np.linalg.norm(truth.point - end))
+        off = end - truth.point
+        err = float(np.linalg.norm(off))
         d = np.array([math.cos(math.radians(pick.end_angle)), math.sin(math.radians(pick.end_angle))])
         ang = math.degrees(math.acos(max(-1.0, min(1.0, float(d @ truth.direction)))))
         wire = self.wires[truth.wire]
@@ -82,8 +120,9 @@ class Tray:
         t = pts[min(i + 4, len(pts) - 1)] - pts[max(i - 4, 0)]
         tangent = math.degrees(math.atan2(t[1], t[0])) % 180.0
         tan_err = abs((pick.grasp_angle - tangent + 90.0) % 180.0 - 90.0)
-        ok = truth.graspable and err <= 1.5 and ang <= 20 and on_wire and 11 <= arc[i] <= 19 and tan_err <= 15
-        return ("correct" if ok else "foul"), err, ang
+        u = truth.direction
+        return {"truth": truth, "err": err, "ang": ang, "on_wire": on_wire, "arc": float(arc[i]), "tan_err": tan_err,
+                "along": float(off @ u), "across": float(off @ np.array([-u[1], u[0]]))}
 
 
 def make_tray(kind: str = "sparse", seed: int = 0, size: int = 512, px_per_mm: float = 4.0,
