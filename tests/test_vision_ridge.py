@@ -798,20 +798,6 @@ def test_ridge_measures_a_crossing_near_an_end_from_the_tip_not_from_where_the_r
     assert tray.judge(res.candidates[0] if res.candidates else None)[0] == "correct"
 
 
-@pytest.mark.parametrize("seed", [3296, 4647])
-def test_ridge_wants_no_other_centre_line_in_the_fingers_room(seed):
-    """Two randomized trays (of those the finder is developed on) whose first pick was a foul:
-    another wire lies over the picked one at its grasp point (3296: a striped wire across a white
-    one, whose centre line was traced along one flank; 4647: a black wire along a grey one) and
-    the look round the grasp point did not count it. Its centre line is there: another centre
-    line within 4 mm of the grasp point (not one along the wire's own other flank, nor a speck's
-    short line) leaves the fingers no room: on 3296 the first pick is another end, and correct;
-    on 4647, where nothing is graspable, there is none."""
-    tray = random_tray(seed)
-    res = find_wires(tray.image, "ridge", tray.px_per_mm)
-    assert tray.judge(res.candidates[0] if res.candidates else None)[0] == "correct"
-
-
 @pytest.mark.parametrize("seed", [4108, 3275])
 def test_ridge_refuses_a_centre_line_that_turns_as_no_wire_bends(seed):
     """Two randomized trays (of those the finder is developed on) whose first pick was a foul: the

@@ -37,8 +37,7 @@ only when what lies around it can be seen to be bare board.
    centre line turns more sharply than a wire bends (a trace run on past a junction
    onto another wire), is refused.
 6. Free: the board must show beside the whole span, beyond the tip, and in a
-   CLEARANCE_MM disc round the grasp point (room for the fingers), where no other centre line
-   may come within FINGER_CLEARANCE_MM of the grasp point either; a faint band only
+   CLEARANCE_MM disc round the grasp point (room for the fingers); a faint band only
    next to the wire, along much of the span, is its own flank or shadow, and a speck of the
    board's texture (no more than SPECK_MM across) is no obstacle. An end refused
    for something beside it or in that disc is read again as one edge of a wire whose

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..common import FINGER_CLEARANCE_MM, FRAME_MARGIN_MM, GRASP_MM, principal_direction
+from ..common import FRAME_MARGIN_MM, GRASP_MM, principal_direction
 from ..sighting import Sighting
 from .contrast import Contrast, _corners, _mix, bilinear, shadow_free
 from .graph import SPAN_MM, Graph
@@ -74,8 +74,6 @@ ROOM_CAP_MM = (1.5, 3.0)  # ... arcs this far beyond its tip
 ROOM_PERCENTILE = 95.0  # ... each band and the disc round the grasp point judged by its nearly-highest contrast
 HOLLOW_MM = (0.8, 3.3)  # a wire whose body does not stand out (light on a board of its colour): its edges this far apart
 HOLLOW_END_MM = 1.5  # ... and they end together, to this much
-LINE_NEAR_MM = 5.0  # another centre line this long, within LINE_BOX_MM of the grasp point and
-LINE_BOX_MM = 8.0  # ... coming within FINGER_CLEARANCE_MM of it, is a wire in the fingers' way
 MIDDLE_THROUGH = 0.8  # a middle grasp: its line runs on this share of the way out of the disc round it, both ways
 MIDDLE_BOW = 0.5  # ... bowing from its tangent there by no more than this share of that
 BESIDE = "another wire or something lies beside it"
@@ -253,8 +251,6 @@ class EndReader:
         why = self.crowded(span, tip, out, width, board, level)
         if why:
             return why
-        if not gap and self.line_near(grasp, line, width):
-            return NO_ROOM
         clutter = self.clutter(span, tip, out, width, board)
         if not gap:
             grasp = self.centred(grasp, tangent, width)
@@ -262,34 +258,6 @@ class EndReader:
         if np.any(tip != insulation):  # a tip found along a faint conductor is the less sure
             score *= CONDUCTOR_DOUBT
         return self.sighting(on_axis, inward, grasp, tangent, score)
-
-    def line_near(self, at: np.ndarray, line: np.ndarray, width: float) -> bool:
-        """Whether another centre line comes within FINGER_CLEARANCE_MM of the grasp point `at`
-        (not `line`, the one being read, nor within its width: a ridge along its other flank): a
-        wire there, however faint beside this one. A wire's line is LINE_NEAR_MM long or more,
-        within LINE_BOX_MM of the grasp point; specks of the board's texture leave dots and short
-        lines."""
-        from scipy import ndimage
-
-        mm = self.wppm
-        r = FINGER_CLEARANCE_MM * mm
-        box = LINE_BOX_MM * mm
-        r0, c0 = int(max(at[0] - box, 0)), int(max(at[1] - box, 0))
-        r1, c1 = int(min(at[0] + box + 1, self.h)), int(min(at[1] + box + 1, self.w))
-        on = np.argwhere(self.g.skeleton[r0:r1, c0:c1]) + (r0, c0)
-        near = line[((line - at) ** 2).sum(axis=1) <= (box * 1.5 + width) ** 2]
-        d2 = ((on[:, None, :] - near[None, :, :]) ** 2).sum(axis=2).min(axis=1) if len(on) and len(near) \
-            else np.full(len(on), np.inf)
-        on, d2 = on[d2 > 1.5 ** 2], d2[d2 > 1.5 ** 2]  # less the line itself
-        inside = (((on - at) ** 2).sum(axis=1) <= r * r) & (d2 > (width / 2 + 1.0) ** 2)
-        if not inside.any():
-            return False
-        grid = np.zeros((r1 - r0, c1 - c0), bool)
-        grid[on[:, 0] - r0, on[:, 1] - c0] = True
-        labels, _ = ndimage.label(grid, structure=np.ones((3, 3), bool))
-        sizes = np.bincount(labels.ravel())
-        hit = labels[on[inside, 0] - r0, on[inside, 1] - c0]
-        return bool((sizes[hit] >= LINE_NEAR_MM * mm).any())
 
     def hidden(self, tip: np.ndarray, inward: np.ndarray, width: float, level: float) -> bool:
         """Whether past the tip the image has the wire's own colour where the board beside the wire
