@@ -73,7 +73,8 @@ class Tray:
         return ("correct" if ok else "foul"), m["err"], m["ang"]
 
     def foul_cause(self, pick) -> str:
-        """What makes a pick foul, in a few words ('' if it is correct), the first that holds of:
+        """What makes a pick foul, in a few words ('' if it is correct, 'no pick' for a miss), the
+        first that holds of:
         the end is not graspable (the ground truth's reason); the pick lies on that wire short
         of its end or past it by more than 1.5 mm (a conductor not followed to its tip, or a
         shadow or the board's print taken for wire); it is at no wire end at all; the direction
