@@ -68,23 +68,20 @@ class Tray:
         if pick is None:
             return ("correct" if not any(e.graspable for e in self.ends) else "miss"), None, None
         m = self._measure(pick)
-        ok = m["truth"].graspable and m["err"] <= 1.5 and m["ang"] <= 20 and m["on_wire"] and 11 <= m["arc"] <= 19 \
-            and m["tan_err"] <= 15
-        return ("correct" if ok else "foul"), m["err"], m["ang"]
+        return ("correct" if _correct(m) else "foul"), m["err"], m["ang"]
 
     def foul_cause(self, pick) -> str:
         """What makes a pick foul, in a few words ('' if it is correct, 'no pick' for a miss), the
-        first that holds of:
-        the end is not graspable (the ground truth's reason); the pick lies on that wire short
-        of its end or past it by more than 1.5 mm (a conductor not followed to its tip, or a
-        shadow or the board's print taken for wire); it is at no wire end at all; the direction
-        into the wire is off by more than 20 degrees; the grasp point is off the wire, or not
-        11-19 mm along it; the tangent there is off by more than 15 degrees."""
-        if self.judge(pick)[0] == "correct":
-            return ""
+        first that holds of: the end is not graspable (the ground truth's reason); the pick lies
+        on that wire short of its end or past it by more than 1.5 mm (a conductor not followed
+        to its tip, or a shadow or the board's print taken for wire); it is at no wire end at
+        all; the direction into the wire is off by more than 20 degrees; the grasp point is off
+        the wire, or not 11-19 mm along it; the tangent there is off by more than 15 degrees."""
         if pick is None:
-            return "no pick"
+            return "no pick" if any(e.graspable for e in self.ends) else ""
         m = self._measure(pick)
+        if _correct(m):
+            return ""
         truth, wire = m["truth"], self.wires[m["truth"].wire]
         if m["err"] > 1.5:
             if abs(m["across"]) <= wire.width / 2 + 0.75 and abs(m["along"]) <= 15.0:
@@ -124,6 +121,12 @@ class Tray:
         u = truth.direction
         return {"truth": truth, "err": err, "ang": ang, "on_wire": on_wire, "arc": float(arc[i]), "tan_err": tan_err,
                 "along": float(off @ u), "across": float(off @ np.array([-u[1], u[0]]))}
+
+
+def _correct(m: dict) -> bool:
+    """Tray.judge's rule, on a pick's measurement (Tray._measure)."""
+    return bool(m["truth"].graspable and m["err"] <= 1.5 and m["ang"] <= 20 and m["on_wire"] and 11 <= m["arc"] <= 19
+                and m["tan_err"] <= 15)
 
 
 def make_tray(kind: str = "sparse", seed: int = 0, size: int = 512, px_per_mm: float = 4.0,
