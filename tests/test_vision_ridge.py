@@ -863,6 +863,40 @@ def test_ridge_graph_finds_the_end_of_a_line_that_ends_in_a_small_cross():
     assert tray.judge(res.candidates[0] if res.candidates else None)[0] == "correct"
 
 
+def test_ridge_graph_reads_an_end_whose_line_goes_on_across_a_break():
+    """A centre line broken a little way from its end (where a bright conductor meets dark
+    insulation the ridge may break) leaves a short piece at the end; the trace jumps the break,
+    so the end is read, not set aside as on a line too short (tray 2195: its only graspable end,
+    missed so). A short piece that ends at a crossing, or that nothing goes on from, stays short."""
+    from rcl.vision.ridge.graph import Graph
+
+    sk = np.zeros((40, 120), bool)
+    sk[20, 10:16] = True  # the end's piece, 6 px
+    sk[20, 19:110] = True  # the line going on past a 3 px break (GAP_MM at 2.5 px/mm: 6 px)
+    g = Graph(sk, 2.5)
+    g.prune_spurs()
+    order = [g.rc(e) for e in g.ends_in_order(np.ones((40, 120)))]
+    assert (20, 10) in order and (20, 109) in order
+    assert [g.rc(int(e)) for e in g.short] == [(20, 15)]  # the break's end on the short piece: read from the other
+    sk[20, 19:110] = False
+    sk[20, 24:110] = True  # a break of 8 px: too wide to jump
+    g = Graph(sk, 2.5)
+    g.prune_spurs()
+    assert sorted(g.rc(e) for e in g.ends_in_order(np.ones((40, 120)))) == [(20, 24), (20, 109)]
+    assert (20, 10) in [g.rc(int(e)) for e in g.short]
+    sk = np.zeros((40, 120), bool)
+    sk[20, 10:16] = True
+    sk[20, 19:60] = True
+    sk[5:35, 30] = True  # a line crossing the one the break leads to, 11 px past the break
+    g = Graph(sk, 2.5)
+    g.prune_spurs()
+    assert (20, 10) not in [g.rc(e) for e in g.ends_in_order(np.ones((40, 120)))]
+    assert (20, 10) in [g.rc(int(e)) for e in g.short]
+    tray = random_tray(2195)
+    res = find_wires(tray.image, "ridge", tray.px_per_mm)
+    assert tray.judge(res.candidates[0] if res.candidates else None)[0] == "correct"
+
+
 @pytest.mark.slow
 def test_ridge_on_cutting_mats_at_seeds_it_was_not_tuned_on():
     # the first 30 randomized trays on a cutting mat from seed 7200: measured 28 correct, 1 foul,

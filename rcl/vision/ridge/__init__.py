@@ -26,7 +26,7 @@ only when what lies around it can be seen to be bare board.
    scale: a wire whose contrast peaks at its flanks), thinned to one pixel.
 4. The wire graph: ends (one neighbour) and crossings (three or more); spurs shorter
    than SPUR_MM are pruned; a trace jumps a break of up to GAP_MM to another line
-   end facing it; only ends on lines long enough to hold SPAN_MM are read.
+   end facing it; only ends on lines long enough to hold SPAN_MM (across such breaks) are read.
 5. Each end: traced inward for SPAN_MM (a crossing on the way: it touches another
    wire); the wire's width measured across it; the tip followed outward along the
    contrast past the ridge's end (a rounded cap, a ferrule, stripped copper) to

@@ -186,8 +186,8 @@ class Graph:
 
     def ends_in_order(self, f: np.ndarray) -> list[int]:
         """The ends worth reading, best first: those whose line runs on for at least SPAN_MM
-        before it meets another (every other end fails the span test anyway), on the longest,
-        strongest lines first."""
+        before it meets another (every other end fails the span test anyway), across a break the
+        trace jumps too (GAP_MM), on the longest, strongest lines first."""
         from scipy import ndimage
 
         ends = self.ends()
@@ -199,7 +199,14 @@ class Graph:
         length = np.bincount(pieces.ravel(), minlength=n + 1).astype(float)
         length[0] = 0.0
         piece = pieces.ravel()[ends]
-        long_enough = length[piece] >= 0.85 * SPAN_MM * self.wppm
+        need = 0.85 * SPAN_MM * self.wppm
+        long_enough = length[piece] >= need
+        for k in np.flatnonzero(~long_enough):
+            # a piece that ends in a break the trace jumps (a ridge broken where a conductor
+            # meets the insulation) may go on across it far enough
+            if self.trace(int(ends[k]), need)[1] == "far":
+                long_enough[k] = True
+                length[piece[k]] = max(length[piece[k]], need)
         self.short = ends[~long_enough]
         ends, piece = ends[long_enough], piece[long_enough]
         r, c = np.divmod(ends, self.W)
