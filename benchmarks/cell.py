@@ -24,7 +24,6 @@ import collections
 import io
 import statistics
 import sys
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -101,7 +100,7 @@ def run(job: tuple[tuple, int]) -> dict:
 
 def main() -> None:
     # benchmarks/machine.py, imported here as tests load some of these files as modules
-    from machine import describe
+    from machine import describe, one_core_pool
 
     args = sys.argv[1:]
     names = [w[0] for w in WAYS]
@@ -117,7 +116,7 @@ def main() -> None:
     start = int(args[1]) if len(args) > 1 else 0
     ways = [w for w in WAYS if len(args) < 3 or w[0] in args[2:]]
     jobs = [(way, seed) for way in ways for seed in range(start, start + trays)]
-    with ProcessPoolExecutor(2) as pool:
+    with one_core_pool(2) as pool:
         results = list(pool.map(run, jobs))
     print(f"examples/crimp.rcl on {trays} seeded trays of 10-15 wires (the built-in simulated cell), "
           f"seeds {start}-{start + trays - 1}\n")

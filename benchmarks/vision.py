@@ -24,7 +24,6 @@ from __future__ import annotations
 import argparse
 import collections
 import time
-from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
@@ -71,7 +70,7 @@ def row(label: str, verdicts: list, errs=None, angs=None, ms=None) -> str:
 
 def main() -> None:
     # benchmarks/machine.py, imported here as tests load some of these files as modules
-    from machine import describe
+    from machine import describe, one_core_pool
 
     print(describe())
     ap = argparse.ArgumentParser()
@@ -90,7 +89,7 @@ def main() -> None:
     print(f"{args.trays} randomized trays, seeds {args.seed0}..{args.seed0 + args.trays - 1}; "
           f"{args.jobs} processes (times are per image, one core each)")
     jobs = [(args.seed0 + i, methods) for i in range(args.trays)]
-    with ProcessPoolExecutor(args.jobs) as pool:
+    with one_core_pool(args.jobs) as pool:
         results = list(pool.map(judge_one, jobs, chunksize=8))
     print(f"  {sum(r['graspable'] for r in results)} trays have a graspable end")
     for m in methods:
@@ -127,7 +126,7 @@ def main() -> None:
     print(f"\nwithin each named slice ({args.slice_trays} trays each, seeds {args.seed0}..):")
     print(f"  {'slice':<16} " + " ".join(f"{m + ' c/f/m %':>18}" for m in methods))
     sj = [(args.seed0 + i, name, methods) for name in SLICES for i in range(args.slice_trays)]
-    with ProcessPoolExecutor(args.jobs) as pool:
+    with one_core_pool(args.jobs) as pool:
         sres = list(pool.map(slice_job, sj, chunksize=8))
     for name in SLICES:
         rs = [r for (_, n, _), r in zip(sj, sres) if n == name]
