@@ -1177,3 +1177,17 @@ def test_ridge_hidden_sees_a_wire_run_onto_a_patch_of_its_own_colour(patch, wire
     level = float(np.median(reader.sample(line)))
     assert level > 10.0  # the wire stands out where it is read
     assert reader.hidden(tip, np.array([0.0, 1.0]), 2.2 * mm, level) == hidden
+
+
+def test_the_readers_3x3_dilation_is_scipys():
+    # reader._grown stands in for ndimage.binary_dilation(mask, np.ones((3, 3))) on the small
+    # windows round a speck: the same pixels, edges included
+    from scipy import ndimage
+
+    from rcl.vision.ridge.reader import _grown
+
+    rng = np.random.default_rng(7)
+    for shape in ((1, 1), (3, 5), (15, 15), (29, 29)):
+        for share in (0.0, 0.05, 0.3):
+            mask = rng.random(shape) < share
+            assert np.array_equal(_grown(mask), ndimage.binary_dilation(mask, np.ones((3, 3)))), (shape, share)
