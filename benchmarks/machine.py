@@ -28,9 +28,15 @@ def one_core_pool(workers: int):
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
+    one_thread()
+    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
+
+
+def one_thread() -> None:
+    """One BLAS (and OpenMP) thread for numpy in this process, if it has not been imported yet,
+    and in every process started from it."""
     for name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
         os.environ.setdefault(name, "1")
-    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
 
 
 def cached_env(**extra: str) -> dict:
