@@ -51,6 +51,10 @@ class Graph:
     def rc(self, i: int) -> tuple[int, int]:
         return i // self.W - 1, i % self.W - 1
 
+    def rcs(self, pixels: list[int]) -> np.ndarray:
+        """rc() of each pixel, as (N, 2) float (row, col)."""
+        return np.column_stack(np.divmod(np.array(pixels), self.W)).astype(float) - 1.0
+
     def trace(self, start: int, limit_px: float) -> tuple[list[int], str]:
         """Follow the centre line from an end for limit_px of arc: (pixels, how it stopped:
         'crossing', 'end' or 'far')."""

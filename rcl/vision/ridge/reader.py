@@ -136,7 +136,7 @@ class EndReader:
         g, mm = self.g, self.wppm
         start = np.array(g.rc(end), float)
         path, how = g.trace(end, (SPAN_MM + CLEARANCE_MM + 4.0) * mm * 1.1)  # past the disc round the grasp
-        line = np.column_stack(np.divmod(np.array(path), g.W)).astype(float) - 1.0  # (g.rc of each)
+        line = g.rcs(path)
         if len(line) >= 5:  # the pixel staircase smoothed, so arc lengths along it are true lengths
             from scipy import ndimage
 
