@@ -256,7 +256,7 @@ def _trace(pixels: set, start, limit: int) -> list:
 
 def main() -> None:
     # benchmarks/machine.py, imported here as tests load some of these files as modules
-    from machine import describe
+    from machine import describe, interval
 
     print(describe())
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -315,7 +315,8 @@ def main() -> None:
                 if args.show and m == methods[0]:
                     _show(args.show, name, path, image, res, tray, verdict)
         print(f"\n{name}: {len(ppms)} images, px/mm {np.median(ppms):.1f} median")
-        print(f"  {'method':<7} {'images':<22} {'n':>4} {'correct':>8} {'foul':>6} {'miss':>6} {'ms':>6}")
+        print(f"  {'method':<7} {'images':<22} {'n':>4} {'correct':>8} {'foul':>6} {'miss':>6} {'ms':>6}"
+              f"  {'correct, 95 % interval':>22}")
         for m in methods:
             for inside in ("with a graspable end", "without one"):
                 c = counts[m]
@@ -323,8 +324,9 @@ def main() -> None:
                 if not n:
                     continue
                 pc = [f"{100 * c[(inside, v)] / n:.0f}%" for v in ("correct", "foul", "miss")]
+                lo, hi = interval(c[(inside, "correct")], n)
                 print(f"  {m:<7} {inside:<22} {n:>4} {pc[0]:>8} {pc[1]:>6} {pc[2]:>6} "
-                      f"{np.median(times[m]):6.1f}")
+                      f"{np.median(times[m]):6.1f}  {f'{100 * lo:.0f}-{100 * hi:.0f}%':>22}")
         if args.failures and failures:
             print("  not correct:")
             print("\n".join(failures))

@@ -72,7 +72,7 @@ def row(label: str, verdicts: list, errs=None, angs=None, ms=None) -> str:
 
 def main() -> None:
     # benchmarks/machine.py, imported here as tests load some of these files as modules
-    from machine import describe, one_core_pool
+    from machine import describe, interval, one_core_pool
 
     print(describe())
     ap = argparse.ArgumentParser()
@@ -112,6 +112,11 @@ def main() -> None:
             errs = [r[m][1] for r in rs if r[m][0] == "correct" and r[m][1] is not None]
             angs = [r[m][2] for r in rs if r[m][0] == "correct" and r[m][2] is not None]
             print(row(name, v, errs, angs, [r[m][3] for r in rs]))
+        n_all = len(results)
+        shares = collections.Counter(r[m][0] for r in results)
+        print("  95 % intervals (Wilson) over all trays: " + ", ".join(
+            f"{k} {100 * shares[k] / n_all:.1f} % ({100 * lo:.1f}-{100 * hi:.1f})"
+            for k in ("correct", "foul", "miss") for lo, hi in [interval(shares[k], n_all)]))
         at512 = [r[m] for r in results if tuple(r["size"]) == (512, 512)]
         if at512:
             stages = collections.defaultdict(list)

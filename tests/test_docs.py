@@ -172,3 +172,22 @@ def test_every_benchmark_that_prints_figures_says_which_machine_it_ran_on():
         if script.name in ("machine.py", "fuzz.py"):  # fuzz.py prints pytest's verdict, no figures
             continue
         assert "print(describe())" in script.read_text(), f"{script.name} does not print the machine it ran on"
+
+
+def test_the_benchmarks_intervals_are_wilsons():
+    # the share's 95 % interval printed beside the tables' figures, against scipy's Wilson
+    # interval and the textbook value for 1 of 3 (0.0615-0.7923)
+    import importlib.util
+
+    from scipy.stats import binomtest
+
+    spec = importlib.util.spec_from_file_location("machine", ROOT / "benchmarks" / "machine.py")
+    machine = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(machine)
+    lo, hi = machine.interval(1, 3)
+    assert abs(lo - 0.0615) < 5e-4 and abs(hi - 0.7923) < 5e-4
+    for k, n in ((0, 60), (60, 60), (1866, 2000), (70, 2000), (5, 7)):
+        ref = binomtest(k, n).proportion_ci(0.95, method="wilson")
+        got = machine.interval(k, n)
+        assert abs(got[0] - ref.low) < 1e-3 and abs(got[1] - ref.high) < 1e-3, (k, n, got, ref)
+    assert machine.interval(0, 0) == (0.0, 1.0)
