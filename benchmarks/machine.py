@@ -49,13 +49,13 @@ def cached_env(**extra: str) -> dict:
     return env
 
 
-def interval(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
-    """The Wilson score interval (95 % at z = 1.96) for a share measured as k of n, as fractions:
+def interval(k: int, n: int) -> tuple[float, float]:
+    """The Wilson score interval, 95 %, for a share measured as k of n, as fractions (scipy's):
     the range of true shares the count does not rule out. On 2,000 trays a 93 % share is known to
     about +-1.1 %; on 3 photographs a 33 % share to anywhere between 6 and 79 %."""
     if n <= 0:
         return 0.0, 1.0
-    p = k / n
-    mid = (p + z * z / (2 * n)) / (1 + z * z / n)
-    half = z / (1 + z * z / n) * (p * (1 - p) / n + z * z / (4 * n * n)) ** 0.5
-    return max(0.0, mid - half), min(1.0, mid + half)
+    from scipy.stats import binomtest
+
+    ci = binomtest(k, n).proportion_ci(0.95, method="wilson")
+    return float(ci.low), float(ci.high)
