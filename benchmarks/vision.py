@@ -1,6 +1,7 @@
 """Vision accuracy and speed on randomized trays. Run by hand:
 
     python benchmarks/vision.py [TRAYS] [--seed0 N] [--methods ridge,grey,binary] [--jobs 2]
+                                [--save FILE] [--against FILE]
 
 TRAYS (default 2000) trays from rcl.vision.scenes.random_tray at seeds seed0.. (default
 300000: seeds no finder was tuned on and no change judged on, for reporting; judge changes on
@@ -20,12 +21,18 @@ Also the median end and angle errors of the correct picks, the median time per i
 per stage on 512 x 512 images (one core), the paper's slices for the binary system (dark or
 bright wires of one polarity on a plain board: plain_dark, plain_bright) and, with --old, the
 seven fixed kinds of synth.make_tray the paper's systems were first measured on.
+
+To judge a change tray by tray (on seeds below 300000): --save FILE writes every tray's verdict
+and foul cause per method (JSON); run again after the change with --against FILE, and it lists
+the trays whose verdict changed, and counts them, before the tables.
 """
 from __future__ import annotations
 
 import argparse
 import collections
+import json
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -70,6 +77,19 @@ def row(label: str, verdicts: list, errs=None, angs=None, ms=None) -> str:
     return f"  {label:<16} {n:>5} {pc('correct'):>8} {pc('foul'):>7} {pc('miss'):>7}{extra}{t}"
 
 
+def changed(before: dict, after: dict) -> list[tuple[str, int, str, str]]:
+    """The trays whose verdict differs between two saved runs ({method: {seed: [verdict, cause]}},
+    seeds as strings, as JSON keeps them): (method, seed, what it was, what it is), a verdict
+    followed by its foul cause where there is one; only methods and seeds both runs hold."""
+    out = []
+    for m in sorted(set(before) & set(after)):
+        for seed in sorted(set(before[m]) & set(after[m]), key=int):
+            was, now = before[m][seed], after[m][seed]
+            if was[0] != now[0]:
+                out.append((m, int(seed), " ".join(filter(None, was)), " ".join(filter(None, now))))
+    return out
+
+
 def main() -> None:
     # benchmarks/machine.py, imported here as tests load some of these files as modules
     from machine import describe, interval, one_core_pool
@@ -81,6 +101,8 @@ def main() -> None:
     ap.add_argument("--methods", default="ridge,grey,binary")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--slice-trays", type=int, default=100, help="trays drawn within each named slice")
+    ap.add_argument("--save", help="write every tray's verdict per method to this file (JSON)")
+    ap.add_argument("--against", help="list the trays whose verdict differs from this saved run")
     args = ap.parse_args()
     methods = args.methods.split(",")
     from rcl.vision import load
@@ -94,6 +116,17 @@ def main() -> None:
     with one_core_pool(args.jobs) as pool:
         results = list(pool.map(judge_one, jobs, chunksize=8))
     print(f"  {sum(r['graspable'] for r in results)} trays have a graspable end")
+    verdicts = {m: {str(seed): [r[m][0], r[m][5]] for (seed, _), r in zip(jobs, results)} for m in methods}
+    if args.save:
+        Path(args.save).write_text(json.dumps(verdicts))
+    if args.against:
+        diff = changed(json.loads(Path(args.against).read_text()), verdicts)
+        for m in methods:
+            mine = [d for d in diff if d[0] == m]
+            better = sum(now == "correct" or (now == "miss" and was.startswith("foul")) for _, _, was, now in mine)
+            print(f"  {m}: {len(mine)} trays changed against {args.against} ({better} for the better)")
+            for _, seed, was, now in mine:
+                print(f"    {seed}: {was} -> {now}")
     for m in methods:
         print(f"\n{m}: the first pick on every tray (end err mm and angle deg: medians of the correct picks)")
         print(f"  {'slice':<16} {'trays':>5} {'correct':>8} {'foul':>7} {'miss':>7} {'end err':>8} {'angle':>7} {'ms':>8}")

@@ -192,3 +192,20 @@ def test_the_benchmarks_intervals_are_wilsons():
     lo, hi = interval(1866, 2000)
     assert lo < 0.933 < hi and 0.02 < hi - lo < 0.023  # about +-1.1 points on 2,000 trays
     assert interval(0, 0) == (0.0, 1.0)
+
+
+def test_the_vision_benchmark_lists_the_trays_whose_verdict_changed():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("vision_benchmark", ROOT / "benchmarks" / "vision.py")
+    vision = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(vision)
+    before = {"ridge": {"7": ["correct", ""], "12": ["foul", "past the end, on from its wire"], "30": ["miss", ""]},
+              "grey": {"7": ["miss", ""]}}
+    after = {"ridge": {"7": ["correct", ""], "12": ["correct", ""], "30": ["foul", "at no wire end"],
+                       "31": ["foul", "at no wire end"]},
+             "binary": {"7": ["foul", "at no wire end"]}}
+    # only what both runs hold, in seed order (as numbers: "12" before "30"), a foul with its cause
+    assert vision.changed(before, after) == [("ridge", 12, "foul past the end, on from its wire", "correct"),
+                                             ("ridge", 30, "miss", "foul at no wire end")]
+    assert vision.changed(after, after) == []
