@@ -15,6 +15,16 @@ settings.load_profile("untimed")
 ROOT = Path(__file__).resolve().parent.parent
 
 
+def benchmark(name: str):
+    """benchmarks/NAME.py as a module (benchmarks/ is no package: loaded by path)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(f"benchmark_{name}", ROOT / "benchmarks" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
 def rcl(*args: str, cwd=None, timeout: float = 60, input: str | None = None) -> subprocess.CompletedProcess:
     """Run `python -m rcl ARGS` and capture its output."""
     return subprocess.run([sys.executable, "-m", "rcl", *args], cwd=cwd, capture_output=True, text=True,

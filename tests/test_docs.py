@@ -11,7 +11,7 @@ import subprocess
 import sys
 
 import pytest
-from conftest import ROOT, rcl
+from conftest import ROOT, benchmark, rcl
 
 TUTORIAL = ROOT / "docs" / "tutorial.md"
 README = ROOT / "README.md"
@@ -159,19 +159,9 @@ def test_the_readmes_quick_start_is_two_commands_that_install_and_run():
     assert "pytest" in (ROOT / ".ci" / "run").read_text(encoding="utf-8")
 
 
-def _benchmark(name: str):
-    """benchmarks/NAME.py as a module (benchmarks/ is no package: loaded by path)."""
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location(f"benchmark_{name}", ROOT / "benchmarks" / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
 def test_every_benchmark_that_prints_figures_says_which_machine_it_ran_on():
     # README figures come from benchmarks/*.py; each table starts with the machine and commit
-    line = _benchmark("machine").describe()
+    line = benchmark("machine").describe()
     assert re.match(r"machine: \S+, \d+ cores, \S+, Python [\d.]+, numpy [\d.]+; rcl at commit \S+$", line), line
     for script in sorted((ROOT / "benchmarks").glob("*.py")):
         if script.name in ("machine.py", "fuzz.py"):  # fuzz.py prints pytest's verdict, no figures
@@ -182,7 +172,7 @@ def test_every_benchmark_that_prints_figures_says_which_machine_it_ran_on():
 def test_the_benchmarks_intervals_are_wilsons():
     # the share's 95 % interval printed beside the tables' figures: the textbook Wilson interval
     # for 1 of 3 (0.0615-0.7923), and the closed forms n / (n + z^2) at none and all of n
-    interval = _benchmark("machine").interval
+    interval = benchmark("machine").interval
     lo, hi = interval(1, 3)
     assert abs(lo - 0.0615) < 5e-4 and abs(hi - 0.7923) < 5e-4
     for n in (7, 60, 2000):
@@ -195,7 +185,7 @@ def test_the_benchmarks_intervals_are_wilsons():
 
 
 def test_the_vision_benchmark_lists_the_trays_whose_verdict_changed():
-    vision = _benchmark("vision")
+    vision = benchmark("vision")
     before = {"ridge": {"7": ["correct", ""], "12": ["foul", "past the end, on from its wire"], "30": ["miss", ""]},
               "grey": {"7": ["miss", ""]}}
     after = {"ridge": {"7": ["correct", ""], "12": ["correct", ""], "30": ["foul", "at no wire end"],

@@ -1,13 +1,12 @@
 """The randomized tray generator's ground truth, and the default (ridge) wire finder against it."""
 from __future__ import annotations
 
-import importlib.util
 import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import benchmark
 
 from rcl.camera import ImageError
 from rcl.vision import VisionError, find_wires
@@ -24,9 +23,6 @@ from rcl.vision.synth import (
     render,
     resample,
 )
-
-ROOT = Path(__file__).resolve().parent.parent
-
 
 # The generator -------------------------------------------------------------------------------
 
@@ -991,15 +987,8 @@ def test_rcl_vision_uses_the_ridge_finder_unless_told(tmp_path):
 
 # The photographs' ground truth ---------------------------------------------------------------
 
-def load_photos_benchmark():
-    spec = importlib.util.spec_from_file_location("photos", ROOT / "benchmarks" / "photos.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
 def test_photo_labels_become_wire_ends_judged_as_the_trays_are():
-    photos = load_photos_benchmark()
+    photos = benchmark("photos")
     # a label drawn from a known wire: 10 px wide (2.5 mm at 4 px/mm), one end inside the frame
     # at (60, 100) px (x, y), the other running off the right edge; a second wire crossing near
     # the first one's right part
