@@ -669,6 +669,26 @@ def test_ridge_takes_a_round_wires_faint_flank_for_the_wire_not_for_something_be
     assert abs(np.linalg.norm(grasp - centre[0]) - 15.0) < 1.0
 
 
+@pytest.mark.parametrize("ppm, light, board, angle", [(4.0, (0.75, -0.14, 0.64), 0.7, 120.0),
+                                                       (6.0, (0.0, 0.75, 0.66), 0.8, 30.0),
+                                                       (8.0, (0.6, 0.6, 0.53), 0.7, 30.0)])
+def test_ridge_takes_a_round_wire_whose_dim_flank_stands_out_for_the_wire(ppm, light, board, angle):
+    """A grey wire on a lighter board, lit from one side (seen on tray 208787): its shaded flank
+    stands out of the board well (so it is no faint edge), but under 0.4 of its lit flank, and
+    the width read at that share leaves it out; it was seen beside the wire all along it and the
+    lone wire's end refused. Read again as wide as all its contrast (even, and about its centre
+    line), the end is taken."""
+    image, centre, d = straight_wire_image(angle, tip_mm=(30.0, 30.0), ppm=ppm, width_mm=2.6, gloss=0.4,
+                                           board_grey=board, wire_colour=(0.51, 0.5, 0.57), light=light)
+    res = find_wires_ridge(image, ppm, enough=0)
+    near = [s for s in res.candidates if np.linalg.norm(np.array(s.end) / ppm - centre[0]) < 1.5]
+    assert near, res.rejected
+    a = math.radians(near[0].end_angle)
+    assert np.dot([math.cos(a), math.sin(a)], d) > math.cos(math.radians(10))
+    grasp = np.array(near[0].grasp) / ppm
+    assert abs(np.linalg.norm(grasp - centre[0]) - 15.0) < 1.0
+
+
 def test_ridge_takes_the_end_with_the_most_room_round_it():
     # two free ends: a black wire's, with another running beside its first 6 mm, 3 mm from its
     # side (clear of the free test but close), read first (the stronger contrast), and a grey

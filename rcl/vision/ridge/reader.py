@@ -76,6 +76,13 @@ HOLLOW_MM = (0.8, 3.3)  # a wire whose body does not stand out (light on a board
 HOLLOW_END_MM = 1.5  # ... and they end together, to this much
 MIDDLE_THROUGH = 0.8  # a middle grasp: its line runs on this share of the way out of the disc round it, both ways
 MIDDLE_BOW = 0.5  # ... bowing from its tangent there by no more than this share of that
+PEAK_SHARE = 0.4  # the wire's width: where its contrast stands above this share of its peak (and the board)
+EXTENT_MAX_MM = 3.3  # an end refused for something beside it or in the fingers' room is read again as a
+# wire as wide as all its contrast over the board, if that is no wider than this (a 3 mm wire and its blur),
+EXTENT_GROW = 1.15  # ... this much wider than the width read at PEAK_SHARE or more,
+EXTENT_STEADY_MM = 0.6  # ... as wide to this much at each of the places it is measured,
+EXTENT_OFF = 0.2  # ... and centred on the centre line to this share of it (a wire lit from one side, its
+# dim flank over the board but under PEAK_SHARE of the lit one; a neighbour close beside it is off to one side)
 BESIDE = "another wire or something lies beside it"
 NO_ROOM = "no room for the fingers at the grasp point"
 
@@ -167,6 +174,18 @@ class EndReader:
                 middle = line + shift * n
                 again = self.take(start + shift * n[0], middle, how, inward, level, board,
                                   self.width(middle, board, gap), gap)
+                if not isinstance(again, str):
+                    return again
+        if took in (BESIDE, NO_ROOM) and len(line) >= 8:
+            # a round wire lit from one side: its dim flank stands above the board, but under
+            # PEAK_SHARE of the lit one, and the width leaves it out; what was seen beside the wire
+            # may be that flank. Read again as wide as all its contrast, if that is a wire's width,
+            # the same all along, and about the centre line (the EXTENT_ constants)
+            full, spread, off = self._across(line, board, 0.0, 0.0)
+            if width * EXTENT_GROW < full <= EXTENT_MAX_MM * mm and spread <= EXTENT_STEADY_MM * mm \
+                    and abs(off) <= EXTENT_OFF * full:
+                n = _normals(line)
+                again = self.take(start + off * n[0], line + off * n, how, inward, level, board, full)
                 if not isinstance(again, str):
                     return again
         if isinstance(took, str):
@@ -503,10 +522,16 @@ class EndReader:
 
     def width(self, line: np.ndarray, board: float, bridge: float = 0.0) -> float:
         """The wire's width (working px): across it at five places, how far its contrast stands
-        above the board (and above 0.4 of its peak) without a break (none narrower than BRIDGE_MM,
+        above the board (and above PEAK_SHARE of its peak) without a break (none narrower than BRIDGE_MM,
         or than `bridge` px if more), the median."""
         if len(line) < 8:
             return 2.0
+        return self._across(line, board, bridge, PEAK_SHARE)[0]
+
+    def _across(self, line: np.ndarray, board: float, bridge: float, share: float) -> tuple[float, float, float]:
+        """width()'s measure with the contrast above `share` of its peak (and the board): (the
+        median width, the most minus the least of the five, the median offset of their middles from
+        the line along its normals), working px."""
         idx = np.linspace(len(line) // 4, len(line) - 2, 5).astype(int)
         t = line[np.minimum(idx + 2, len(line) - 1)] - line[np.maximum(idx - 2, 0)]
         t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-9)
@@ -516,7 +541,7 @@ class EndReader:
         prof = prof.reshape(len(idx), len(offs))
         mid = len(offs) // 2
         peak = prof[:, mid - 4:mid + 5].max(axis=1, keepdims=True)
-        above = prof >= np.maximum(0.4 * peak, board)
+        above = prof >= np.maximum(share * peak, board)
         # a break narrower than BRIDGE_MM is no edge: the specular line along a glossy wire (it may
         # be as light as the board), or a grain
         above = _bridged(above, int(round(max(BRIDGE_MM * self.wppm, bridge) / 0.5)))
@@ -524,13 +549,15 @@ class EndReader:
         window = above[:, mid - 3:mid + 4]
         seen = window.any(axis=1)
         if not seen.any():
-            return 2.0
+            return 2.0, 99.0, 0.0
         m = mid - 3 + np.argmin(np.where(window, np.abs(np.arange(7) - 3), 99), axis=1)[:, None]
         at = np.arange(above.shape[1])[None, :]
         lo = np.where(~above & (at < m), at, -1).max(axis=1) + 1
         hi = np.where(~above & (at > m), at, above.shape[1]).min(axis=1) - 1
         widths = (hi - lo + 1)[seen] * 0.5
-        return float(np.clip(np.median(widths), 1.0, 4.0 * self.wppm))
+        middle = ((lo + hi)[seen] * 0.5 - mid) * 0.5
+        return (float(np.clip(np.median(widths), 1.0, 4.0 * self.wppm)), float(widths.max() - widths.min()),
+                float(np.median(middle)))
 
     def span(self, full, grasp, width) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """What the free test and the room round an end look beside: the centre line along the
