@@ -768,33 +768,6 @@ def _lattice_board(angle_deg: float, pitch_px: float, square: bool, rng) -> np.n
     return (0.08 * lines + rng.normal(0.0, 0.01, yy.shape)).astype(np.float32)[..., None], lines > 0.5
 
 
-@pytest.mark.parametrize("seed", [0, 1, 2])
-def test_two_tones_are_told_two_and_a_half_spreads_apart_and_a_grainy_plain_board_is_one(seed):
-    """A board printed in blobs of two tones whose difference is 2.5 times its grain's spread
-    (tray 208058: a dark red board with brown blobs, its tones 2.8 of their spreads apart, was
-    taken as one colour and a brown blob stood out beside a wire) is seen as two tones, each
-    blob taking its own; the same grain and light with no blobs is one tone."""
-    from scipy import ndimage
-
-    from rcl.vision.ridge.contrast import _two_tones
-
-    rng = np.random.default_rng(seed)
-    blobs = ndimage.gaussian_filter(rng.normal(size=(256, 256)), 8.0) > 0.0
-    grain = ndimage.gaussian_filter(rng.normal(size=(256, 256)), 1.0)
-    grain *= 0.03 / grain.std()
-    light = np.linspace(0.9, 1.1, 256)[None, :]  # uneven light across the tray
-    tint = np.array([1.0, 0.8, 0.7], np.float32)
-    printed = ((0.5 + grain + 0.075 * blobs) * light)[..., None] * tint
-    under = _two_tones(printed.astype(np.float32), 2.0, None)
-    assert under is not None
-    tone = ((0.5 + 0.075 * blobs) * light)[..., None] * tint  # each pixel's tone without the grain
-    off = np.abs(under - tone).sum(axis=2) / (0.075 * light * tint.sum())  # in tone differences
-    deep = ndimage.binary_erosion(blobs, iterations=4) | ndimage.binary_erosion(~blobs, iterations=4)
-    assert np.mean(off[deep] < 0.5) > 0.85  # each blob and the ground take their tone (as one colour: 0.74)
-    plain = ((0.5 + grain) * light)[..., None] * tint
-    assert _two_tones(plain.astype(np.float32), 2.0, None) is None
-
-
 def test_a_mats_grid_is_taken_out_of_the_contrast_and_a_wire_across_it_kept():
     from rcl.vision.ridge.lattice import without_lattice
 
