@@ -305,13 +305,14 @@ def test_ridge_takes_an_end_near_a_rim_and_refuses_one_at_it(gap_mm, free):
         assert not near and any("tray's rim" in why for _, why in res.rejected)
 
 
-@pytest.mark.parametrize("off_at_mm, taken", [(26.0, True), (21.0, False)])
+@pytest.mark.parametrize("off_at_mm, taken", [(26.0, True), (24.0, True), (21.0, False)])
 def test_ridge_takes_an_end_whose_wire_leaves_the_frame_past_its_span_and_the_fingers_room(off_at_mm, taken):
-    """The ground truth asks the first 20 mm from the tip to lie inside the frame; the finder also
-    needs to see the fingers' room (4.6 mm) round the grasp point 15 mm along. A wire that leaves
+    """The ground truth asks the first 20 mm from the tip to lie 3 mm inside the frame; the finder
+    also needs to see the fingers' room round the grasp point 15 mm along. A wire that leaves
     the frame 26 mm from its end is taken (it was refused while the whole 31 mm traced past the
-    grasp point had to be inside); one that leaves it 21 mm from its end is refused (the span and
-    its slack, 22 mm, must lie 3 mm inside the frame)."""
+    grasp point had to be inside), and so is one that leaves it 24 mm from its end (refused
+    while the span and 2 mm more had to lie 3 mm inside: trays 208385, 208654, 208966); one that
+    leaves it 21 mm from its end is refused (the span and 0.5 mm more must lie 3 mm inside)."""
     image, centre, _ = straight_wire_image(0.0, tip_mm=(128.0 - off_at_mm, 60.0))
     res = find_wires_ridge(image, 4.0)
     near = [s for s in res.candidates if np.linalg.norm(np.array(s.end) / 4.0 - centre[0]) < 1.0]
@@ -322,15 +323,17 @@ def test_ridge_takes_an_end_whose_wire_leaves_the_frame_past_its_span_and_the_fi
 
 
 def test_ridge_refuses_an_end_whose_fingers_room_is_not_all_in_sight():
-    """A wire lying 4 mm from the frame's edge, along it: its span is inside the frame, but part of
-    the 4.6 mm round its grasp point is not, and what is not seen is not known to be free."""
-    image, centre, _ = straight_wire_image(0.0, tip_mm=(40.0, 4.0))
+    """A wire lying 3.9 mm from the frame's edge, along it: its span is inside the frame, but part
+    of the 4 mm round its grasp point is not, and what is not seen is not known to be free. At
+    4.5 mm (tray 208799) and 6 mm all of it is in sight."""
+    image, centre, _ = straight_wire_image(0.0, tip_mm=(40.0, 3.9))
     res = find_wires_ridge(image, 4.0)
     assert not [s for s in res.candidates if np.linalg.norm(np.array(s.end) / 4.0 - centre[0]) < 1.0]
     assert any("runs off the frame" in why for _, why in res.rejected), res.rejected
-    image, centre, _ = straight_wire_image(0.0, tip_mm=(40.0, 6.0))  # 6 mm in: all in sight
-    res = find_wires_ridge(image, 4.0)
-    assert [s for s in res.candidates if np.linalg.norm(np.array(s.end) / 4.0 - centre[0]) < 1.0], res.rejected
+    for inside in (4.5, 6.0):
+        image, centre, _ = straight_wire_image(0.0, tip_mm=(40.0, inside))
+        res = find_wires_ridge(image, 4.0)
+        assert [s for s in res.candidates if np.linalg.norm(np.array(s.end) / 4.0 - centre[0]) < 1.0], res.rejected
 
 
 def test_the_cells_bench_round_the_tray_is_seen_as_off_the_tray():

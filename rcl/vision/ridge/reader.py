@@ -27,6 +27,10 @@ RIM_GAP_MM = 1.0  # ... and between them and a tray's rim (0.5 mm, and as much f
 KINK_DEG, KINK_MM, KINK_FROM_MM = 45.0, 2.5, 5.0  # a line turning more than this between chords this long,
 # past this far from the tip, turns at a junction onto another wire (no wire bends so tightly; a
 # striped wire's centre line weaves with its stripes, which over shorter chords looks as sharp)
+FRAME_SLACK_MM = 0.5  # the span and this much more must lie FRAME_MARGIN_MM inside the frame (the ground truth's
+# rule, and a little for the tip's error; SPAN_SLACK_MM here refused ends whose first 20 mm lie 3.5-4.4 mm inside)
+SIGHT_MM = 4.2  # the fingers' room in sight: the frame this far from the grasp point at least (the 4 mm they
+# need, and 0.2 mm for where the grasp point is put: what lies beyond the frame is no nearer than that)
 SPAN_SLACK_MM = 2.0  # ... along the span and this much more: a wire crossing just past it touches it (tip and arc errors)
 SHADOW_LIKE_WIRE = 0.2  # a wire this much of whose centre line looks like shadow: shadows are not told from it
 SHADOW_SIDE = 0.3  # ... and one that casts one: so much of the board along one side of it looks like shadow
@@ -250,10 +254,12 @@ class EndReader:
         # what must be seen: the span (the ground truth's 20 mm, and the slack), and the fingers'
         # room round the grasp point; what the wire does beyond that does not matter
         seen = full[s <= (SPAN_MM + SPAN_SLACK_MM) * mm]
+        framed = full[s <= (SPAN_MM + FRAME_SLACK_MM) * mm]
         grasp = np.array([np.interp(GRASP_MM * mm, s, full[:, 0]), np.interp(GRASP_MM * mm, s, full[:, 1])])
         room = CLEARANCE_MM * mm
-        if np.any(seen < border) or np.any(seen[:, 0] > self.h - 1 - border) or np.any(seen[:, 1] > self.w - 1 - border) \
-                or min(grasp[0], grasp[1], self.h - 1 - grasp[0], self.w - 1 - grasp[1]) < room:
+        if np.any(framed < border) or np.any(framed[:, 0] > self.h - 1 - border) \
+                or np.any(framed[:, 1] > self.w - 1 - border) \
+                or min(grasp[0], grasp[1], self.h - 1 - grasp[0], self.w - 1 - grasp[1]) < SIGHT_MM * mm:
             return "the wire runs off the frame near its end"
         if self.off_tray(seen, width / 2 + RIM_GAP_MM * mm).any() or self.off_tray(grasp[None, :], room)[0]:
             return "the wire runs to the tray's rim near its end"
