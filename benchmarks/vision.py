@@ -17,6 +17,8 @@ slice its draw matches, see scenes.tags), the first pick is:
 The fouls are also counted by cause (synth.Tray.foul_cause: an end that is not graspable, and
 why; a pick short of the end along its wire or past it; at no wire end; a direction, grasp
 point or tangent off).
+The same counts by what the slices do not say: the board's kind, the image's size, how many
+wires, colour or grey (drawn_with).
 Also the median end and angle errors of the correct picks, the median time per image and
 per stage on 512 x 512 images (one core), the paper's slices for the binary system (dark or
 bright wires of one polarity on a plain board: plain_dark, plain_bright) and, with --old, the
@@ -43,7 +45,8 @@ def judge_one(job):
     from rcl.vision.scenes import random_tray, tags
 
     tray = random_tray(seed)
-    out = {"tags": sorted(tags(tray.scene)), "size": tray.image.shape[:2], "graspable": any(e.graspable for e in tray.ends)}
+    out = {"tags": sorted(tags(tray.scene)), "drawn": drawn_with(tray.scene), "size": tray.image.shape[:2],
+           "graspable": any(e.graspable for e in tray.ends)}
     for m in methods:
         t = time.perf_counter()
         res = find_wires(tray.image, m, tray.px_per_mm)
@@ -65,6 +68,19 @@ def slice_job(job):
         res = find_wires(tray.image, m, tray.px_per_mm)
         out[m] = tray.judge(res.candidates[0] if res.candidates else None)[0]
     return out
+
+
+WIRES = ("1-4", "5-9", "10-19", "20+")  # drawn_with's groups by how many wires a tray holds
+
+
+def drawn_with(scene) -> list[str]:
+    """What a tray was drawn with that the slices do not say, as groups to count verdicts in: its
+    board, its image's size (pixels), how many wires, colour or grey."""
+    px = scene.width * scene.height
+    size = "small" if px < 250_000 else "large" if px >= 750_000 else "medium"
+    n = scene.count
+    wires = WIRES[0] if n < 5 else WIRES[1] if n < 10 else WIRES[2] if n < 20 else WIRES[3]
+    return [f"board {scene.board}", f"{size} image", f"{wires} wires", "colour" if scene.colour else "grey"]
 
 
 def row(label: str, verdicts: list, errs=None, angs=None, ms=None) -> str:
@@ -145,6 +161,14 @@ def main() -> None:
             errs = [r[m][1] for r in rs if r[m][0] == "correct" and r[m][1] is not None]
             angs = [r[m][2] for r in rs if r[m][0] == "correct" and r[m][2] is not None]
             print(row(name, v, errs, angs, [r[m][3] for r in rs]))
+        print(f"  by what the tray is drawn with (small images: under 0.25 Mpx; large: 0.75 Mpx or more):")
+        drawn: dict[str, list] = collections.defaultdict(list)
+        for r in results:
+            for g in r["drawn"]:
+                drawn[g].append(r[m][0])
+        order = [*(f"{k} image" for k in ("small", "medium", "large")), *(f"{k} wires" for k in WIRES), "colour", "grey"]
+        for name in sorted(drawn, key=lambda g: (order.index(g) if g in order else -1, g)):
+            print(row(name, drawn[name]))
         n_all = len(results)
         shares = collections.Counter(r[m][0] for r in results)
         print("  95 % intervals (Wilson) over all trays: " + ", ".join(

@@ -195,3 +195,18 @@ def test_the_vision_benchmark_lists_the_trays_whose_verdict_changed():
     assert vision.changed(before, after) == [("ridge", 12, "foul past the end, on from its wire", "correct"),
                                              ("ridge", 30, "miss", "foul at no wire end")]
     assert vision.changed(after, after) == []
+
+
+def test_the_vision_benchmark_groups_trays_by_what_they_are_drawn_with():
+    from rcl.vision.scenes import random_tray
+
+    vision = benchmark("vision")
+    scene = random_tray(5).scene
+    groups = vision.drawn_with(scene)
+    assert groups[0] == f"board {scene.board}" and groups[3] == ("colour" if scene.colour else "grey")
+    scene.width, scene.height, scene.count = 320, 240, 20
+    assert vision.drawn_with(scene)[1:3] == ["small image", "20+ wires"]
+    scene.width, scene.height, scene.count = 1024, 768, 4
+    assert vision.drawn_with(scene)[1:3] == ["large image", "1-4 wires"]
+    scene.width, scene.height, scene.count = 640, 480, 10
+    assert vision.drawn_with(scene)[1:3] == ["medium image", "10-19 wires"]
