@@ -161,7 +161,7 @@ def main() -> None:
             errs = [r[m][1] for r in rs if r[m][0] == "correct" and r[m][1] is not None]
             angs = [r[m][2] for r in rs if r[m][0] == "correct" and r[m][2] is not None]
             print(row(name, v, errs, angs, [r[m][3] for r in rs]))
-        print(f"  by what the tray is drawn with (small images: under 0.25 Mpx; large: 0.75 Mpx or more):")
+        print("  by what the tray is drawn with (small images: under 0.25 Mpx; large: 0.75 Mpx or more):")
         drawn: dict[str, list] = collections.defaultdict(list)
         for r in results:
             for g in r["drawn"]:
