@@ -31,6 +31,7 @@ the trays whose verdict changed, and counts them, before the tables.
 from __future__ import annotations
 
 import argparse
+import bisect
 import collections
 import json
 import time
@@ -78,8 +79,7 @@ def drawn_with(scene) -> list[str]:
     board, its image's size (pixels), how many wires, colour or grey."""
     px = scene.width * scene.height
     size = "small" if px < 250_000 else "large" if px >= 750_000 else "medium"
-    n = scene.count
-    wires = WIRES[0] if n < 5 else WIRES[1] if n < 10 else WIRES[2] if n < 20 else WIRES[3]
+    wires = WIRES[bisect.bisect_right((5, 10, 20), scene.count)]
     return [f"board {scene.board}", f"{size} image", f"{wires} wires", "colour" if scene.colour else "grey"]
 
 

@@ -198,10 +198,12 @@ def test_the_vision_benchmark_lists_the_trays_whose_verdict_changed():
 
 
 def test_the_vision_benchmark_groups_trays_by_what_they_are_drawn_with():
-    from rcl.vision.scenes import random_tray
+    import numpy as np
+
+    from rcl.vision.scenes import draw_scene
 
     vision = benchmark("vision")
-    scene = random_tray(5).scene
+    scene = draw_scene(np.random.default_rng(5))
     groups = vision.drawn_with(scene)
     assert groups[0] == f"board {scene.board}" and groups[3] == ("colour" if scene.colour else "grey")
     scene.width, scene.height, scene.count = 320, 240, 20
