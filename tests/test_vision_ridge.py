@@ -1203,3 +1203,49 @@ def test_the_readers_3x3_dilation_is_scipys():
         for share in (0.0, 0.05, 0.3):
             mask = rng.random(shape) < share
             assert np.array_equal(_grown(mask), ndimage.binary_dilation(mask, np.ones((3, 3)))), (shape, share)
+
+
+def one_wire_with_a_tip(start_mm, angle_deg, width_mm, colour, tip_mm, board, ppm, size=512, gloss=0.0, seed=0):
+    """A straight wire from start_mm (x, y) on into the frame at angle_deg, stripped at that end to
+    tip_mm of tinned conductor, on a plain board of colour `board`, drawn by the tray generator's
+    painter and camera."""
+    from rcl.vision.scenes import Scene, WireLook, finish, paint
+    d = np.array([math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg))])
+    wire = Wire(np.asarray(start_mm, float) + np.arange(0, 150.0, 0.5)[:, None] * d, width_mm, 0, colour, tip_mm)
+    scene = Scene(size, size, ppm, True, 1, 1, ("straight",), (width_mm, width_mm), ("red",), ("tinned",), "plain",
+                  board, 0.06, (0.25, 1.65, 0.2), (0.14, 0.63, 0.77), 0.0, 0.0, 0.3, 0.022, 0, False, 0, 0.0, False)
+    looks = [WireLook("red", colour, ("tinned", "flat"), (tip_mm, 0.0), gloss)]
+    under = np.empty((size, size, 3), np.float32)
+    under[:] = board
+    return finish(scene, paint(scene, [wire], looks, under), np.random.default_rng(seed))
+
+
+@pytest.mark.parametrize("seed", [0, 2, 3])
+def test_ridge_follows_a_bright_conductor_to_its_tip_when_the_tips_scan_took_its_first_part(seed):
+    """A thick red wire on a beige board, stripped to 2.5 mm of tinned conductor (tray 203188's
+    kind). The conductor's glossy middle stands out about as much as the insulation's half, so
+    the scan for the insulation's tip runs on into its first mm; what is left was too short to
+    pass for a conductor (CONDUCTOR_MIN_MM), and the tip was put 1.3-1.6 mm short. The part
+    the scan followed is narrower than the insulation and counts towards the conductor."""
+    ppm, start = 5.36, np.array([40.0, 25.0])
+    image = one_wire_with_a_tip(start, 75.0, 3.0, (0.84, 0.10, 0.02), 2.5, (0.82, 0.71, 0.60), ppm, gloss=0.1,
+                                seed=seed)
+    ends = [np.array(s.end) / ppm for s in find_wires_ridge(image, ppm).candidates]
+    near = [e for e in ends if np.linalg.norm(e - start) < 8.0]
+    assert len(near) == 1 and np.linalg.norm(near[0] - start) < 1.0, (ends, start)
+
+
+@pytest.mark.parametrize("ppm,width_mm,inside_mm", [(4.3, 2.0, 4.0), (4.3, 2.0, 5.0), (7.77, 0.9, 6.0),
+                                                     (4.3, 1.5, 3.0), (5.0, 2.5, 5.0)])
+def test_ridge_refuses_an_end_whose_conductor_runs_off_the_frame(ppm, width_mm, inside_mm):
+    """A black wire whose 6 mm tinned conductor (a grey a little darker than the board) runs off
+    the frame's top edge, inside_mm of it in the frame. The conductor's scan runs to the border
+    with the conductor still there: the end is at the border, not at the insulation's end (where
+    a conductor's scan stopped short of the border was once taken, the scan sampling the edge's
+    pixels again past it and calling that a line going on)."""
+    d = np.array([math.cos(math.radians(80.0)), math.sin(math.radians(80.0))])
+    start = np.array([40.0, inside_mm - 6.0 * d[1]])
+    image = one_wire_with_a_tip(start, 80.0, width_mm, (0.15, 0.15, 0.15), 6.0, (0.82, 0.82, 0.82), ppm, size=640)
+    res = find_wires_ridge(image, ppm)
+    ends = [np.array(s.end) / ppm for s in res.candidates]
+    assert not [e for e in ends if e[1] < 20.0], (ends, res.rejected)

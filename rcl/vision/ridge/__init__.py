@@ -31,7 +31,9 @@ only when what lies around it can be seen to be bare board.
    wire); the wire's width measured across it; the tip followed outward along the
    contrast past the ridge's end (a rounded cap, a ferrule, stripped copper) to
    where the board begins (a faint "conductor" that runs on past its own tip as a
-   thin line is the board's print, and not followed); an end at the frame border,
+   thin line is the board's print, and not followed; the narrow stretch of a bright
+   conductor the first scan took counts towards it, and its contrast is the
+   conductor's; one that runs on to the frame's border ends there); an end at the frame border,
    or whose contrast runs on (under another wire) or fades but goes on straight past
    its tip (unless it fills the fan beyond the tip: a broad patch of print), or whose
    centre line turns more sharply than a wire bends (a trace run on past a junction

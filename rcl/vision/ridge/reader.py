@@ -43,6 +43,11 @@ CONDUCTOR_NARROW = 0.7  # ... and narrower than the wire: 0.45 of its width off 
 RUN_ON_MM = (0.5, 3.0)  # ... and past its tip, this stretch free of a thin line going on (line_goes_on):
 RUN_ON_CONTRAST = 1.5  # ... its peak across the stretch this far (spreads) above the median there,
 RUN_ON_WIDE_MM = 0.8  # ... and no wider than this
+# the part of a conductor the tip's scan has followed already (bright, it stood out as the insulation does):
+FLANK_SHARE = 0.5  # its flanks stand out less than this share of the insulation's (each as a share of the
+FLANK_OTHER = (0.3, 0.8)  # middle's contrast), or less than [1] of it where its contrast is [0] off the insulation's;
+FLANK_MIN = 0.3  # asked only where the insulation's stand out this share or more (else narrow is not told from wide)
+CONDUCTOR_STEADY = 0.7  # ... and past that, to the tip, the conductor holds this share of its contrast there
 CONDUCTOR_DOUBT = 0.96  # an end whose tip lies on such a conductor ranks as this much less roomy (its tip
 # is the less sure: of the free ends read on trays 3000-5399, 8 % of such tips lay over 1.5 mm off, 2 % of others)
 TIP_START_MM = 10.0  # the search for the tip starts this far in along the centre line: on the insulation
@@ -231,7 +236,7 @@ class EndReader:
             return tip_s
         tip = np.array([np.interp(tip_s, es, ext[:, 0]), np.interp(tip_s, es, ext[:, 1])])
         insulation = tip
-        tip = self.conductor(tip, out, width)
+        tip = self.conductor(tip, out, width, self.flanks(line, arc, width))
         r, c = tip
         if r < border or c < border or r > self.h - 1 - border or c > self.w - 1 - border:
             return "its end is at the frame's border"
@@ -417,16 +422,44 @@ class EndReader:
         # a blurred edge looks like shadow on both sides alike
         return bool(share.max() >= SHADOW_SIDE and share.min() <= 0.5 * share.max())
 
-    def conductor(self, end: np.ndarray, out: np.ndarray, width: float) -> np.ndarray:
+    def flanks(self, line: np.ndarray, arc: np.ndarray, width: float) -> tuple[float, float]:
+        """How much a wire's flanks stand out of the board, as a share of its middle: F 0.45 of its
+        width out from the centre line, over what it is within 0.2 of it (each above the board 1 mm
+        past its edges), the median over the centre line from TIP_START_MM to SPAN_MM in (on the
+        insulation, past any conductor); and the median of its middle's contrast there. (0, 0) where
+        the line is shorter."""
+        on = (arc >= TIP_START_MM * self.wppm) & (arc <= SPAN_MM * self.wppm)
+        if len(line) < 5 or on.sum() < 3:
+            return 0.0, 0.0
+        pts, n = line[on], _normals(line)[on]
+        offs = np.array([-0.2, 0.0, 0.2, -0.45, 0.45, 0.0, 0.0]) * width
+        offs[5:] = -(width / 2 + self.wppm), width / 2 + self.wppm
+        v = self.sample((pts[:, None, :] + offs[None, :, None] * n[:, None, :]).reshape(-1, 2)).reshape(len(pts), -1)
+        board = v[:, 5:7].mean(axis=1)
+        middle = v[:, :3].max(axis=1) - board
+        return float(np.median((v[:, 3:5].mean(axis=1) - board) / np.maximum(middle, 1e-9))), float(np.median(middle))
+
+    def conductor(self, end: np.ndarray, out: np.ndarray, width: float,
+                  flanks: tuple[float, float] = (0.0, 0.0)) -> np.ndarray:
         """The tip of a faint conductor or ferrule running on straight past the insulation's end
         (end), or end itself if there is none. It runs while the contrast on the axis (the most
         of three samples across it), averaged over CONDUCTOR_WINDOW_MM, stands CONDUCTOR_CONTRAST
-        above the board beside it; its tip is where that contrast falls to TIP_SHARE of its own,
-        and past that tip no thin line may go on (line_goes_on: a line of the board's print)."""
+        above the board beside it, narrower than the wire; its tip is where that contrast falls
+        to TIP_SHARE of its own, and past that tip no thin line may go on (line_goes_on: a line
+        of the board's print). The tip's scan may already have followed part of it (a bright
+        conductor stands out as the insulation does, but not all the way): the narrow stretch
+        just inside end counts towards its length and its contrast. One that runs on to the
+        frame's border ends there."""
         from scipy import ndimage
 
         mm = self.wppm
-        steps = np.arange(0.5, TIP_MAX_MM * mm, 0.5)
+        back = np.arange(-TIP_START_MM * mm, 0.0, 0.5)  # inside end: what the scan may have followed
+        ahead = np.arange(0.5, TIP_MAX_MM * mm, 0.5)
+        at = end + ahead[:, None] * out
+        inside = (at[:, 0] >= 0) & (at[:, 1] >= 0) & (at[:, 0] <= self.h - 1) & (at[:, 1] <= self.w - 1)
+        framed = int(np.argmin(inside)) if not inside.all() else len(ahead)
+        steps = np.concatenate([back, ahead[:framed]])
+        z = len(back)  # the first step past end
         side = np.array([-out[1], out[0]])
         lateral = np.array([-0.2 * width, 0.0, 0.2 * width, -(width / 2 + mm), width / 2 + mm, -0.45 * width,
                             0.45 * width])
@@ -443,33 +476,55 @@ class EndReader:
         v = v.reshape(len(steps), len(lateral))
         board = v[:, 3:5].mean(axis=1)
         rise = v[:, :3].max(axis=1) - board  # a thin conductor may lie off the axis
+        wide = v[:, 5:7].mean(axis=1) - board
         n = max(round(CONDUCTOR_WINDOW_MM * mm * 2), 1)
         mean = ndimage.uniform_filter1d(rise, n, mode="nearest")  # over the window centred on each step
         # a dip shorter than half the window is no gap: a line thinner than two pixels comes and
         # goes as it crosses the pixel grid (and strands or JPEG blocks break it up)
         held = ndimage.maximum_filter1d(rise, max(n // 2, 1), mode="nearest")
         on = (mean >= CONDUCTOR_CONTRAST) & (held >= 0.5 * CONDUCTOR_CONTRAST)
-        off = np.flatnonzero(~on)
-        run = int(off[0]) if off.size else len(on)
-        if run < n or steps[run - 1] < CONDUCTOR_MIN_MM * mm:
+        # what the scan followed: back from end, the steps where the wire stands out but narrow:
+        # its flanks stand out less, as a share of its middle, than the insulation's (`flanks`,
+        # the FLANK_ constants; a round wire's flanks are darker than its middle, so under 1)
+        beside = ndimage.uniform_filter1d(wide, n, mode="nearest") / np.maximum(mean, 1e-9)
+        share, middle = flanks
+        other = np.abs(mean - middle) >= FLANK_OTHER[0] * middle  # a contrast not the insulation's
+        narrow = on & (share >= FLANK_MIN) & (beside <= CONDUCTOR_NARROW) \
+            & ((beside <= FLANK_SHARE * share) | (other & (beside <= FLANK_OTHER[1] * share)))
+        kept = np.flatnonzero(~narrow[:z][::-1])
+        followed = int(kept[0]) if kept.size else z
+        if followed < n:  # less than the window: the blur of the insulation's own end
+            followed = 0
+        s0 = z - followed
+        off = np.flatnonzero(~on[z:])
+        run = z + (int(off[0]) if off.size else len(on) - z)  # one past the conductor's last step
+        length = steps[run - 1] - (steps[s0] if followed else 0.0)
+        if run == z or (not followed and run - z < n) or length < CONDUCTOR_MIN_MM * mm:
             return end  # nothing that runs on far enough: the blur of the end itself, or its shadow
-        if np.median(v[:run, 5:7].mean(axis=1) - board[:run]) > CONDUCTOR_NARROW * np.median(rise[:run]):
+        if np.median(wide[s0:run]) > CONDUCTOR_NARROW * np.median(rise[s0:run]):
             return end  # as wide as the wire: the end's shadow or the blur of a rounded end
         # its tip, as the insulation's: where its contrast, averaged over the window, falls to
         # TIP_SHARE of what it is along it over half the window (an average over a centred window
         # crosses a step's half height where it steps; over less, the dips of a line thinner than two
         # pixels fall below it well inside the conductor)
         short = ndimage.uniform_filter1d(rise, max(n // 2, 1), mode="nearest")
-        own = float(np.median(short[:run]))
+        own = float(np.median(short[s0:run]))
         edge = max(CONDUCTOR_CONTRAST, TIP_SHARE * own)
-        low = np.flatnonzero(mean[:run] < edge)
-        low = low[low >= n]  # not in the tip's own first window
+        low = z + np.flatnonzero(mean[z:run] < edge)
+        if not followed:  # not in the tip's own first window (it reaches back onto the insulation)
+            low = low[low >= z + n]
         i = int(low[0]) if low.size else run
         if i >= run:
             reach = float(steps[run - 1])
+        elif i == z:
+            return end  # the scan took it to its tip already
         else:
             a, b = mean[i - 1], mean[i]
             reach = float(steps[i - 1] + np.clip((a - edge) / max(a - b, 1e-6), 0, 1) * 0.5)
+        if followed and np.median(mean[z:i]) < CONDUCTOR_STEADY * np.median(mean[s0:z]):
+            return end  # it does not hold its contrast past end: the end's blur or shadow
+        if i >= run == len(steps) and framed < len(ahead):
+            return end + out * reach  # on to the frame's border
         if self.line_goes_on(end + out * reach, out, width):
             return end  # a line of the board's print, not a conductor
         return end + out * reach
