@@ -1,12 +1,13 @@
 """Reading one end of a centre line: its tip, width, the room round it and the sighting.
 
-EndReader is about 600 lines, over the ~300 we hold classes to: reading an end is one chain
+EndReader is about 750 lines, over the ~300 we hold classes to: reading an end is one chain
 of steps (step 5-7 of the finder, see the package's docstring) over the same samplers of the
 contrast, the shadows and the rim, which the class holds for the image; split into several
 classes, each step would take the same half-dozen arrays again. Each method is one step."""
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from functools import lru_cache
 from typing import TYPE_CHECKING
 
@@ -236,7 +237,7 @@ class EndReader:
             return tip_s
         tip = np.array([np.interp(tip_s, es, ext[:, 0]), np.interp(tip_s, es, ext[:, 1])])
         insulation = tip
-        tip = self.conductor(tip, out, width, self.flanks(line, arc, width))
+        tip = self.conductor(tip, out, width, lambda: self.flanks(line, arc, width))
         r, c = tip
         if r < border or c < border or r > self.h - 1 - border or c > self.w - 1 - border:
             return "its end is at the frame's border"
@@ -440,7 +441,7 @@ class EndReader:
         return float(np.median((v[:, 3:5].mean(axis=1) - board) / np.maximum(middle, 1e-9))), float(np.median(middle))
 
     def conductor(self, end: np.ndarray, out: np.ndarray, width: float,
-                  flanks: tuple[float, float] = (0.0, 0.0)) -> np.ndarray:
+                  flanks: Callable[[], tuple[float, float]] = lambda: (0.0, 0.0)) -> np.ndarray:
         """The tip of a faint conductor or ferrule running on straight past the insulation's end
         (end), or end itself if there is none. It runs while the contrast on the axis (the most
         of three samples across it), averaged over CONDUCTOR_WINDOW_MM, stands CONDUCTOR_CONTRAST
@@ -453,31 +454,18 @@ class EndReader:
         from scipy import ndimage
 
         mm = self.wppm
-        back = np.arange(-TIP_START_MM * mm, 0.0, 0.5)  # inside end: what the scan may have followed
+        n = max(round(CONDUCTOR_WINDOW_MM * mm * 2), 1)  # steps of 0.5 px in the window
         ahead = np.arange(0.5, TIP_MAX_MM * mm, 0.5)
         at = end + ahead[:, None] * out
         inside = (at[:, 0] >= 0) & (at[:, 1] >= 0) & (at[:, 0] <= self.h - 1) & (at[:, 1] <= self.w - 1)
         framed = int(np.argmin(inside)) if not inside.all() else len(ahead)
-        steps = np.concatenate([back, ahead[:framed]])
-        z = len(back)  # the first step past end
-        side = np.array([-out[1], out[0]])
-        lateral = np.array([-0.2 * width, 0.0, 0.2 * width, -(width / 2 + mm), width / 2 + mm, -0.45 * width,
-                            0.45 * width])
-        pts = end + steps[:, None, None] * out + lateral[None, :, None] * side
-        flat_pts = pts.reshape(-1, 2)
         # board in shadow beyond the tip is no conductor, unless a sharp ridge runs on it: where the
         # wire casts shadows that can be told from it, and past an end lighter than the board (what
         # runs on from it darker than the board and of the board's colour is its shadow)
-        if self.shadows or self.lighter(end, out):
-            v, free, shade = self.shade(flat_pts)
-            v = np.where(shade & (self.sample(flat_pts, self.FINE) < CONDUCTOR_RIDGE), free, v)
-        else:
-            v = self.sample(flat_pts)
-        v = v.reshape(len(steps), len(lateral))
-        board = v[:, 3:5].mean(axis=1)
-        rise = v[:, :3].max(axis=1) - board  # a thin conductor may lie off the axis
-        wide = v[:, 5:7].mean(axis=1) - board
-        n = max(round(CONDUCTOR_WINDOW_MM * mm * 2), 1)
+        shaded = self.shadows or self.lighter(end, out)
+        steps = np.concatenate([np.arange(-TIP_START_MM * mm, 0.0, 0.5), ahead[:framed]])  # inside end too
+        z = int(np.count_nonzero(steps < 0))  # the first step past end
+        rise, wide = self._profile(end, out, width, steps, shaded)
         mean = ndimage.uniform_filter1d(rise, n, mode="nearest")  # over the window centred on each step
         # a dip shorter than half the window is no gap: a line thinner than two pixels comes and
         # goes as it crosses the pixel grid (and strands or JPEG blocks break it up)
@@ -485,12 +473,16 @@ class EndReader:
         on = (mean >= CONDUCTOR_CONTRAST) & (held >= 0.5 * CONDUCTOR_CONTRAST)
         # what the scan followed: back from end, the steps where the wire stands out but narrow:
         # its flanks stand out less, as a share of its middle, than the insulation's (`flanks`,
-        # the FLANK_ constants; a round wire's flanks are darker than its middle, so under 1)
+        # the FLANK_ constants; a round wire's flanks are darker than its middle, so under 1),
+        # looked for only where the whole window just inside end stands out with its flanks under
+        # CONDUCTOR_NARROW of its middle (a stretch shorter than the window is not counted)
         beside = ndimage.uniform_filter1d(wide, n, mode="nearest") / np.maximum(mean, 1e-9)
-        share, middle = flanks
-        other = np.abs(mean - middle) >= FLANK_OTHER[0] * middle  # a contrast not the insulation's
-        narrow = on & (share >= FLANK_MIN) & (beside <= CONDUCTOR_NARROW) \
-            & ((beside <= FLANK_SHARE * share) | (other & (beside <= FLANK_OTHER[1] * share)))
+        narrow = np.zeros(len(steps), bool)
+        if on[z - n:z].all() and (beside[z - n:z] <= CONDUCTOR_NARROW).all():
+            share, middle = flanks()
+            other = np.abs(mean - middle) >= FLANK_OTHER[0] * middle  # a contrast not the insulation's
+            narrow = on & (share >= FLANK_MIN) & (beside <= CONDUCTOR_NARROW) \
+                & ((beside <= FLANK_SHARE * share) | (other & (beside <= FLANK_OTHER[1] * share)))
         kept = np.flatnonzero(~narrow[:z][::-1])
         followed = int(kept[0]) if kept.size else z
         if followed < n:  # less than the window: the blur of the insulation's own end
@@ -528,6 +520,26 @@ class EndReader:
         if self.line_goes_on(end + out * reach, out, width):
             return end  # a line of the board's print, not a conductor
         return end + out * reach
+
+    def _profile(self, end: np.ndarray, out: np.ndarray, width: float, steps: np.ndarray,
+                 shaded: bool) -> tuple[np.ndarray, np.ndarray]:
+        """conductor()'s samples at `steps` (working px) along out from end: (the most contrast of
+        three samples across the axis, 0.2 of the wire's width apart, above the board 1 mm past the
+        wire's edges; the mean 0.45 of its width off the axis, above that board). shaded: board in
+        shadow counts as board, unless a sharp ridge runs on it."""
+        mm = self.wppm
+        side = np.array([-out[1], out[0]])
+        lateral = np.array([-0.2 * width, 0.0, 0.2 * width, -(width / 2 + mm), width / 2 + mm, -0.45 * width,
+                            0.45 * width])
+        flat_pts = (end + steps[:, None, None] * out + lateral[None, :, None] * side).reshape(-1, 2)
+        if shaded:
+            v, free, shade = self.shade(flat_pts)
+            v = np.where(shade & (self.sample(flat_pts, self.FINE) < CONDUCTOR_RIDGE), free, v)
+        else:
+            v = self.sample(flat_pts)
+        v = v.reshape(len(steps), len(lateral))
+        board = v[:, 3:5].mean(axis=1)
+        return v[:, :3].max(axis=1) - board, v[:, 5:7].mean(axis=1) - board  # (a thin conductor may lie off the axis)
 
     def line_goes_on(self, tip: np.ndarray, out: np.ndarray, width: float) -> bool:
         """Whether a thin line goes on past a conductor's tip (out: its direction). At each step
