@@ -433,12 +433,11 @@ class EndReader:
         if len(line) < 5 or on.sum() < 3:
             return 0.0, 0.0
         pts, n = line[on], _normals(line)[on]
-        offs = np.array([-0.2, 0.0, 0.2, -0.45, 0.45, 0.0, 0.0]) * width
-        offs[5:] = -(width / 2 + self.wppm), width / 2 + self.wppm
+        offs = _across_tip(width, self.wppm)
         v = self.sample((pts[:, None, :] + offs[None, :, None] * n[:, None, :]).reshape(-1, 2)).reshape(len(pts), -1)
-        board = v[:, 5:7].mean(axis=1)
+        board = v[:, 3:5].mean(axis=1)
         middle = v[:, :3].max(axis=1) - board
-        return float(np.median((v[:, 3:5].mean(axis=1) - board) / np.maximum(middle, 1e-9))), float(np.median(middle))
+        return float(np.median((v[:, 5:7].mean(axis=1) - board) / np.maximum(middle, 1e-9))), float(np.median(middle))
 
     def conductor(self, end: np.ndarray, out: np.ndarray, width: float,
                   flanks: Callable[[], tuple[float, float]] = lambda: (0.0, 0.0)) -> np.ndarray:
@@ -527,10 +526,8 @@ class EndReader:
         three samples across the axis, 0.2 of the wire's width apart, above the board 1 mm past the
         wire's edges; the mean 0.45 of its width off the axis, above that board). shaded: board in
         shadow counts as board, unless a sharp ridge runs on it."""
-        mm = self.wppm
         side = np.array([-out[1], out[0]])
-        lateral = np.array([-0.2 * width, 0.0, 0.2 * width, -(width / 2 + mm), width / 2 + mm, -0.45 * width,
-                            0.45 * width])
+        lateral = _across_tip(width, self.wppm)
         flat_pts = (end + steps[:, None, None] * out + lateral[None, :, None] * side).reshape(-1, 2)
         if shaded:
             v, free, shade = self.shade(flat_pts)
@@ -851,6 +848,12 @@ class EndReader:
         end_angle = math.degrees(math.atan2(inward[0], inward[1]))
         grasp_angle = math.degrees(math.atan2(tangent[0], tangent[1])) % 180.0
         return Sighting(to_input(tip), end_angle, to_input(grasp), grasp_angle, score)
+
+
+def _across_tip(width: float, mm: float) -> np.ndarray:
+    """Where conductor() and flanks() sample across a wire (px from its axis): the middle (0.2 of
+    its width apart), the board 1 mm past its edges, its flanks 0.45 of its width out."""
+    return np.array([-0.2 * width, 0.0, 0.2 * width, -(width / 2 + mm), width / 2 + mm, -0.45 * width, 0.45 * width])
 
 
 def _grown(mask: np.ndarray) -> np.ndarray:
