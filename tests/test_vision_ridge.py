@@ -228,6 +228,20 @@ def straight_wire_image(angle_deg: float = 20.0, tip_mm=(40.0, 60.0), size=512, 
     return image, centre, d
 
 
+BLACK = (0.15, 0.15, 0.15)
+
+
+def grey_board_image(wires, looks, seed: int, board: float = 0.8, noise: float = 0.01):
+    """The wires, each drawn with its WireLook, on a plain grey board of 512 x 512 px at 4 px/mm,
+    lit from straight above, with sensor noise `noise` and no other effect: the image."""
+    from rcl.vision.scenes import Scene, finish, paint
+
+    scene = Scene(512, 512, 4.0, False, len(wires), 1, ("straight",), (2.0, 2.0), ("black",), ("flat",), "plain",
+                  (board,) * 3, 0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 0.0, 0.0, 0.0, noise, 0, False, 0, 0.0, False)
+    under = np.full((512, 512, 3), board, np.float32)
+    return finish(scene, paint(scene, wires, looks, under), np.random.default_rng(seed))
+
+
 @pytest.mark.parametrize("angle", [0.0, 20.0, 90.0, 135.0, 200.0])
 def test_ridge_finds_a_lone_wire_end_its_direction_and_grasp(angle):
     image, centre, d = straight_wire_image(angle, tip_mm=(64.0, 64.0))
@@ -415,14 +429,11 @@ def test_ridge_refuses_an_end_cut_by_the_frame_and_one_crowded_by_another_wire()
     assert all(e[0] > 20 for e in ends)  # only the far end, inside the frame, may be taken
     assert any(uv[0] < 12 for uv, _ in res.rejected)  # the line's end at the left border was refused
     # a second wire crossing 8 mm from the first one's tip: neither end near the crossing is free
-    from rcl.vision.scenes import Scene, WireLook, finish, paint
+    from rcl.vision.scenes import WireLook
     a = Wire(np.array([40.0, 64.0]) + np.arange(0, 70.0, 0.5)[:, None] * [1.0, 0.0], 2.0, 0, (0.1,))
     b = Wire(np.array([48.0, 30.0]) + np.arange(0, 70.0, 0.5)[:, None] * [0.0, 1.0], 2.0, 1, (0.1,))
-    scene = Scene(512, 512, 4.0, False, 2, 2, ("straight",), (2.0, 2.0), ("black",), ("flat",), "plain",
-                  (0.8, 0.8, 0.8), 0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 0.0, 0.0, 0.0, 0.01, 0, False, 0, 0.0, False)
-    look = WireLook("black", (0.15, 0.15, 0.15), ("flat", "flat"), (0.0, 0.0), 0.0)
-    under = np.full((512, 512, 3), 0.8, np.float32)
-    image = finish(scene, paint(scene, [a, b], [look, look], under), np.random.default_rng(1))
+    look = WireLook("black", BLACK, ("flat", "flat"), (0.0, 0.0), 0.0)
+    image = grey_board_image([a, b], [look, look], 1)
     res = find_wires_ridge(image, 4.0, enough=0)
     for s in res.candidates:
         assert np.linalg.norm(np.array(s.end) / 4.0 - [40.0, 64.0]) > 3.0  # a's left end is crossed near it
@@ -696,17 +707,14 @@ def test_ridge_takes_the_end_with_the_most_room_round_it():
     # two free ends: a black wire's, with another running beside its first 6 mm, 3 mm from its
     # side (clear of the free test but close), read first (the stronger contrast), and a grey
     # wire's alone; the lone end comes first, the other still a candidate
-    from rcl.vision.scenes import Scene, WireLook, finish, paint
+    from rcl.vision.scenes import WireLook
     along = np.arange(0, 110.0, 0.5)[:, None]  # on past the frame's right side
     near = Wire(np.array([30.0, 40.0]) + along * [1.0, 0.0], 2.0, 0, (0.1,))
     past = Wire(np.array([-5.0, 45.0]) + np.arange(0, 41.0, 0.5)[:, None] * [1.0, 0.0], 2.0, 0, (0.1,))
     alone = Wire(np.array([40.0, 100.0]) + along * [1.0, 0.0], 2.0, 0, (0.1,))
-    scene = Scene(512, 512, 4.0, False, 3, 1, ("straight",), (2.0, 2.0), ("black",), ("flat",), "plain",
-                  (0.8, 0.8, 0.8), 0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 0.0, 0.0, 0.0, 0.01, 0, False, 0, 0.0, False)
-    black = WireLook("black", (0.15, 0.15, 0.15), ("flat", "flat"), (0.0, 0.0), 0.0)
+    black = WireLook("black", BLACK, ("flat", "flat"), (0.0, 0.0), 0.0)
     grey = WireLook("grey", (0.5, 0.5, 0.5), ("flat", "flat"), (0.0, 0.0), 0.0)
-    under = np.full((512, 512, 3), 0.8, np.float32)
-    image = finish(scene, paint(scene, [near, past, alone], [black, black, grey], under), np.random.default_rng(2))
+    image = grey_board_image([near, past, alone], [black, black, grey], 2)
     res = find_wires_ridge(image, 4.0)
     ends = [np.array(s.end) / 4.0 for s in res.candidates]
     assert len(ends) >= 2 and np.linalg.norm(ends[0] - [40.0, 100.0]) < 1.0, ends
@@ -1074,16 +1082,13 @@ def test_ridge_ranks_an_end_whose_tip_lies_on_a_faint_conductor_below_an_as_room
     # insulation, is the less sure, so its score carries CONDUCTOR_DOUBT and the insulated end,
     # which would otherwise come second, comes first
     from rcl.vision.ridge import reader
-    from rcl.vision.scenes import Scene, WireLook, finish, paint
+    from rcl.vision.scenes import WireLook
     along = np.arange(0, 110.0, 0.5)[:, None]  # on past the frame's right side
     stripped = Wire(np.array([30.0, 40.0]) + along * [1.0, 0.0], 2.0, 0, (0.1,), 6.0)
     plain = Wire(np.array([30.0, 100.0]) + along * [1.0, 0.0], 2.0, 0, (0.1,))
-    scene = Scene(512, 512, 4.0, False, 2, 1, ("straight",), (2.0, 2.0), ("black",), ("flat", "tinned"), "plain",
-                  (0.82, 0.82, 0.82), 0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 0.0, 0.0, 0.0, 0.03, 0, False, 0, 0.0, False)
-    looks = [WireLook("black", (0.15, 0.15, 0.15), ("tinned", "flat"), (6.0, 0.0), 0.0),
-             WireLook("black", (0.15, 0.15, 0.15), ("flat", "flat"), (0.0, 0.0), 0.0)]
-    under = np.full((512, 512, 3), 0.82, np.float32)
-    image = finish(scene, paint(scene, [stripped, plain], looks, under), np.random.default_rng(3))
+    looks = [WireLook("black", BLACK, ("tinned", "flat"), (6.0, 0.0), 0.0),
+             WireLook("black", BLACK, ("flat", "flat"), (0.0, 0.0), 0.0)]
+    image = grey_board_image([stripped, plain], looks, 3, board=0.82, noise=0.03)
 
     def scores():
         res = find_wires_ridge(image, 4.0)
@@ -1249,3 +1254,39 @@ def test_ridge_refuses_an_end_whose_conductor_runs_off_the_frame(ppm, width_mm, 
     res = find_wires_ridge(image, ppm)
     ends = [np.array(s.end) / ppm for s in res.candidates]
     assert not [e for e in ends if e[1] < 20.0], (ends, res.rejected)
+
+
+def test_ridge_ranks_an_end_with_another_centre_line_near_its_span_below_a_lone_one(monkeypatch):
+    # two black wires alike, far apart, each with a free end; beside the first 6 mm of the first a
+    # thin grey wire runs, its centre line 2 mm from the first wire's edge (clear of the free test's
+    # bands beside the span and of the fingers' room round the grasp point): with LINE_WEIGHT 0
+    # only the contrast near each end ranks them; with it, the end with another centre line near
+    # scores less by 1 + LINE_WEIGHT * (3 - d) / 3, d the distance measured (up to 2 mm: the thin
+    # wire's centre line bends towards the black one at its end), and the lone end's score is
+    # unchanged
+    from rcl.vision.ridge import reader
+    from rcl.vision.scenes import WireLook
+    along = np.arange(0, 110.0, 0.5)[:, None]  # on past the frame's right side
+    crowded = Wire(np.array([30.0, 40.0]) + along * [1.0, 0.0], 2.0, 0, (0.1,))
+    beside = Wire(np.array([-5.0, 43.0]) + np.arange(0, 41.0, 0.5)[:, None] * [1.0, 0.0], 1.0, 0, (0.1,))
+    alone = Wire(np.array([30.0, 100.0]) + along * [1.0, 0.0], 2.0, 0, (0.1,))
+    black = WireLook("black", BLACK, ("flat", "flat"), (0.0, 0.0), 0.0)
+    grey = WireLook("grey", (0.6, 0.6, 0.6), ("flat", "flat"), (0.0, 0.0), 0.0)
+    image = grey_board_image([crowded, beside, alone], [black, grey, black], 4)
+
+    def scores():
+        res = find_wires_ridge(image, 4.0)
+        found = {}
+        for s in res.candidates:
+            for name, at in (("crowded", [30.0, 40.0]), ("alone", [30.0, 100.0])):
+                if np.linalg.norm(np.array(s.end) / 4.0 - at) < 1.0:
+                    found[name] = s.score
+        assert set(found) == {"crowded", "alone"}, ([s.end for s in res.candidates], res.rejected)
+        return found
+
+    ranked = scores()
+    monkeypatch.setattr(reader, "LINE_WEIGHT", 0.0)
+    unranked = scores()
+    assert ranked["alone"] == pytest.approx(unranked["alone"])
+    factor = unranked["crowded"] / ranked["crowded"]  # 1 + 0.5 * (3 - d) / 3
+    assert 1.0 + 0.5 * (3.0 - 2.2) / 3.0 <= factor <= 1.0 + 0.5, factor

@@ -81,6 +81,8 @@ HIDDEN_MM = 1.5  # the board's beside it, this far out from its edges: the wire 
 HIDDEN_SIDE = 0.2  # (asked only where the wire differs from the board beside it by this share of its contrast)
 ROOM_BAND_MM = (1.0, 2.0, 3.0)  # the room round a free end: bands this far out from the wire's edges along the span
 ROOM_CAP_MM = (1.5, 3.0)  # ... arcs this far beyond its tip
+LINE_NEAR_MM = 3.0  # another centre line this near the span's edge makes an end a worse bet (ranking only)
+LINE_WEIGHT = 0.5  # ... its score divided by up to 1 + this
 ROOM_PERCENTILE = 95.0  # ... each band and the disc round the grasp point judged by its nearly-highest contrast
 HOLLOW_MM = (0.8, 3.3)  # a wire whose body does not stand out (light on a board of its colour): its edges this far apart
 HOLLOW_END_MM = 1.5  # ... and they end together, to this much
@@ -286,6 +288,9 @@ class EndReader:
         if not gap:
             grasp = self.centred(grasp, tangent, width)
         score = 1.0 / (1.0 + clutter)
+        near = self.line_near(span, width)
+        if near < LINE_NEAR_MM:
+            score /= 1.0 + LINE_WEIGHT * (LINE_NEAR_MM - near) / LINE_NEAR_MM
         if np.any(tip != insulation):  # a tip found along a faint conductor is the less sure
             score *= CONDUCTOR_DOUBT
         return self.sighting(on_axis, inward, grasp, tangent, score)
@@ -818,6 +823,28 @@ class EndReader:
         if len(disc):
             worst.append(np.percentile(self._seen(disc), ROOM_PERCENTILE))
         return float(max(worst)) / board
+
+    def line_near(self, span, width) -> float:
+        """How near (mm) another centre line comes to the wire's edge along its span: pixels of
+        the centre lines within reach, less the wire's own (within half its width and 1 mm of its
+        line, or nearest its first or last point: its line going on)."""
+        mm = self.wppm
+        line = span[0]
+        half = width / 2
+        reach = half + LINE_NEAR_MM * mm + 1.0
+        lo = np.maximum(np.floor(line.min(axis=0) - reach).astype(int), 0)
+        hi = np.ceil(line.max(axis=0) + reach).astype(int) + 1
+        win = self.g.skeleton[lo[0]:hi[0], lo[1]:hi[1]]
+        pix = np.column_stack(np.nonzero(win)).astype(float) + lo
+        if not len(pix) or len(line) < 3:
+            return 99.0
+        d2 = ((pix[:, None, :] - line[None, :, :]) ** 2).sum(axis=2)
+        j = d2.argmin(axis=1)
+        d = np.sqrt(d2[np.arange(len(pix)), j])
+        other = (d > half + mm) & (j > 0) & (j < len(line) - 1)
+        if not other.any():
+            return 99.0
+        return float(d[other].min() - half) / mm
 
     def _seen(self, pts: np.ndarray, shadows: bool = True) -> np.ndarray:
         """around() at the points (or F, if not shadows); nothing where they fall off the image or
