@@ -722,20 +722,6 @@ def test_ridge_takes_the_end_with_the_most_room_round_it():
     assert res.candidates[0].score > max(s.score for s in res.candidates[1:])
 
 
-@pytest.mark.parametrize("shape, ppm, k", [((240, 320), 4.4, 1), ((480, 480), 4.4, 1), ((500, 520), 4.4, 2),
-                                           ((512, 512), 4.4, 2), ((240, 320), 6.5, 2), ((512, 512), 6.5, 3),
-                                           ((240, 320), 2.6, 1), ((1024, 1024), 2.6, 1)])
-def test_a_small_image_is_worked_on_at_a_finer_scale(shape, ppm, k):
-    # under 0.25 Mpx the working image is averaged to 3-6 px/mm (k = px/mm // 3), else to 2-4
-    # (k = px/mm // 2); k is at least 1; the working image is the blocks' means
-    image = np.random.default_rng(0).random(shape + (3,)).astype(np.float32)
-    work, got = working_image(image, ppm)
-    assert got == k
-    h, w = shape[0] // k, shape[1] // k
-    assert work.shape == (h, w, 3)
-    assert np.allclose(work, image[:h * k, :w * k].reshape(h, k, w, k, 3).mean(axis=(1, 3)), atol=1e-6)
-
-
 def test_ridge_copes_with_blank_noise_tiny_and_bad_images():
     assert find_wires_ridge(np.full((128, 128), 0.5)).candidates == []
     assert find_wires_ridge(np.random.default_rng(1).uniform(size=(256, 256))).candidates == []

@@ -7,9 +7,9 @@ wire beside a black one and a copper tip all stand out alike; it finds centre
 lines as ridges of that contrast at the scales wires have, and it takes an end
 only when what lies around it can be seen to be bare board.
 
-1. The working image: k x k block averaging to 2-4 px/mm (3-6 px/mm for an image under
-   SMALL_PX), colour kept; a tray's rim (or the bench round the tray) along a side of the
-   frame found (find_rim): what lies beyond it is off the tray.
+1. The working image: k x k block averaging to 2-4 px/mm, colour kept; a tray's rim
+   (or the bench round the tray) along a side of the frame found (find_rim): what
+   lies beyond it is off the tray.
 2. Contrast: the board's colour is estimated per BOARD_BLOCK_MM block (the median,
    then the median of each 3 x 3 blocks, so blocks full of wire are outvoted) and
    subtracted; a printed lattice (a cutting mat's grid) found in the spectrum and

@@ -13,7 +13,6 @@ from .lattice import without_lattice
 
 SHADOW_LIGHT = (0.55, 0.97)  # a shadow leaves this share of the board's light: darker is a thing, lighter is board
 SHADOW_TINT = 2.0  # ... and adds no more other colour than this (spreads)
-SMALL_PX = 250_000  # an image of fewer pixels is worked on at 3-6 px/mm, not 2-4 (its working image is small anyway)
 MIN_SPREAD = 0.012  # the least board spread believed (3 grey levels): JPEG and sensor noise at the least
 BOARD_BLOCK_MM = 8.0  # blocks in which the board's colour is estimated
 TONE_WHEN = (99.5, 6.0)  # the board is tried as two tones when this percentile of F is less than this
@@ -31,9 +30,7 @@ TONE_GAIN = 0.5  # ... and taken so if it leaves less than this share of those p
 
 
 def working_image(image: np.ndarray, px_per_mm: float) -> tuple[np.ndarray, int]:
-    """(the image block-averaged to 2-4 px/mm as float32 (rows, cols, channels), the block size). An
-    image of fewer than SMALL_PX pixels is averaged to 3-6 px/mm: its working image stays small, and
-    thin wires and conductors keep more of their pixels."""
+    """(the image block-averaged to 2-4 px/mm as float32 (rows, cols, channels), the block size)."""
     a = np.asarray(image)
     scale = 1.0 / 255.0 if a.dtype == np.uint8 else 1.0 / 65535.0 if a.dtype == np.uint16 else 1.0
     if a.ndim == 2:
@@ -41,7 +38,7 @@ def working_image(image: np.ndarray, px_per_mm: float) -> tuple[np.ndarray, int]
     if a.ndim != 3 or a.shape[2] not in (1, 3, 4) or not np.issubdtype(a.dtype, np.number):
         raise ImageError(f"an image is rows x columns (x 3 colours) of numbers, not shape {np.shape(image)}")
     a = a[:, :, :3]
-    k = max(1, int(px_per_mm // (3.0 if a.shape[0] * a.shape[1] < SMALL_PX else 2.0)))
+    k = max(1, int(px_per_mm // 2.0))
     h, w = a.shape[0] // k * k, a.shape[1] // k * k
     if h < 16 * k or w < 16 * k:
         raise ImageError(f"the image ({a.shape[1]} x {a.shape[0]} px) is too small to find wires in")
