@@ -735,6 +735,17 @@ def test_ridge_copes_with_blank_noise_tiny_and_bad_images():
         find_wires(np.zeros((64, 64)), "ridge", 0.0)
 
 
+@pytest.mark.parametrize("shape", [(256, 256), (240, 320, 3), (512, 512)])
+@pytest.mark.parametrize("ppm", [2.0, 4.0, 6.0])
+@pytest.mark.parametrize("level", [0, 128, 255])
+def test_every_finder_sees_nothing_in_a_blank_picture(shape, ppm, level):
+    # a frame of one grey (a lens cap, an empty white tray, a camera giving zeros): no end, and no
+    # exception from the board's two tones, whose split of a board with no spread was undefined
+    image = np.full(shape, level, np.uint8)
+    for method in ("ridge", "grey", "binary"):
+        assert find_wires(image, method, ppm).candidates == []
+
+
 def test_sparse_thinning_is_the_binary_systems_thinning():
     from rcl.vision.binary import thin
 

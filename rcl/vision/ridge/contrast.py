@@ -232,6 +232,8 @@ def _two_tones(work: np.ndarray, wppm: float, outside: np.ndarray | None) -> np.
     u = rest @ d
     p5, p95 = np.percentile(u, (5, 95))
     middle = u[(u > p5) & (u < p95)]
+    if len(middle) < 40:  # a blank board: nothing between its 5th and 95th percentiles to split
+        return None
     t = _otsu(middle)
     lo, hi = middle[middle < t], middle[middle >= t]
     if len(lo) < 20 or len(hi) < 20:
@@ -316,6 +318,8 @@ def _spread(diff: np.ndarray, outside: np.ndarray | None) -> np.ndarray:
 def _otsu(u: np.ndarray) -> float:
     """Otsu's threshold of the values u: the one of 128 bins that most separates the means of the
     two sides, weighted by their counts."""
+    if not len(u) or u.min() == u.max():
+        return float(u[0]) if len(u) else 0.0  # nothing to split
     hist, e = np.histogram(u, 128)
     c = 0.5 * (e[:-1] + e[1:])
     wsum = np.cumsum(hist)
