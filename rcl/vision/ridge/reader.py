@@ -825,9 +825,9 @@ class EndReader:
         return float(max(worst)) / board
 
     def line_near(self, span, width) -> float:
-        """How near (mm) another centre line comes to the wire's edge along its span: pixels of
-        the centre lines within reach, less the wire's own (within half its width and 1 mm of its
-        line, or nearest its first or last point: its line going on)."""
+        """How near (mm) another centre line comes to the wire's edge along its span (inf: none
+        within LINE_NEAR_MM): pixels of the centre lines within reach, less the wire's own (within
+        half its width and 1 mm of its line, or nearest its first or last point: its line going on)."""
         mm = self.wppm
         line = span[0]
         half = width / 2
@@ -837,13 +837,13 @@ class EndReader:
         win = self.g.skeleton[lo[0]:hi[0], lo[1]:hi[1]]
         pix = np.column_stack(np.nonzero(win)).astype(float) + lo
         if not len(pix) or len(line) < 3:
-            return 99.0
+            return math.inf
         d2 = ((pix[:, None, :] - line[None, :, :]) ** 2).sum(axis=2)
         j = d2.argmin(axis=1)
         d = np.sqrt(d2[np.arange(len(pix)), j])
         other = (d > half + mm) & (j > 0) & (j < len(line) - 1)
         if not other.any():
-            return 99.0
+            return math.inf
         return float(d[other].min() - half) / mm
 
     def _seen(self, pts: np.ndarray, shadows: bool = True) -> np.ndarray:
