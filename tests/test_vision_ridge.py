@@ -242,6 +242,12 @@ def grey_board_image(wires, looks, seed: int, board: float = 0.8, noise: float =
     return finish(scene, paint(scene, wires, looks, under), np.random.default_rng(seed))
 
 
+def rightward_wire(start_mm, length_mm: float = 110.0, width_mm: float = 2.0, tip_mm: float = 0.0) -> Wire:
+    """A straight wire on the lowest layer from start_mm (its end 0) to the right, its centre line
+    at 0.5 mm steps (110 mm runs on past a 128 mm frame's right side)."""
+    return Wire(np.array(start_mm) + np.arange(0, length_mm, 0.5)[:, None] * [1.0, 0.0], width_mm, 0, (0.1,), tip_mm)
+
+
 @pytest.mark.parametrize("angle", [0.0, 20.0, 90.0, 135.0, 200.0])
 def test_ridge_finds_a_lone_wire_end_its_direction_and_grasp(angle):
     image, centre, d = straight_wire_image(angle, tip_mm=(64.0, 64.0))
@@ -708,10 +714,7 @@ def test_ridge_takes_the_end_with_the_most_room_round_it():
     # side (clear of the free test but close), read first (the stronger contrast), and a grey
     # wire's alone; the lone end comes first, the other still a candidate
     from rcl.vision.scenes import WireLook
-    along = np.arange(0, 110.0, 0.5)[:, None]  # on past the frame's right side
-    near = Wire(np.array([30.0, 40.0]) + along * [1.0, 0.0], 2.0, 0, (0.1,))
-    past = Wire(np.array([-5.0, 45.0]) + np.arange(0, 41.0, 0.5)[:, None] * [1.0, 0.0], 2.0, 0, (0.1,))
-    alone = Wire(np.array([40.0, 100.0]) + along * [1.0, 0.0], 2.0, 0, (0.1,))
+    near, past, alone = rightward_wire([30.0, 40.0]), rightward_wire([-5.0, 45.0], 41.0), rightward_wire([40.0, 100.0])
     black = WireLook("black", BLACK, ("flat", "flat"), (0.0, 0.0), 0.0)
     grey = WireLook("grey", (0.5, 0.5, 0.5), ("flat", "flat"), (0.0, 0.0), 0.0)
     image = grey_board_image([near, past, alone], [black, black, grey], 2)
@@ -1094,9 +1097,7 @@ def test_ridge_ranks_an_end_whose_tip_lies_on_a_faint_conductor_below_an_as_room
     # which would otherwise come second, comes first
     from rcl.vision.ridge import reader
     from rcl.vision.scenes import WireLook
-    along = np.arange(0, 110.0, 0.5)[:, None]  # on past the frame's right side
-    stripped = Wire(np.array([30.0, 40.0]) + along * [1.0, 0.0], 2.0, 0, (0.1,), 6.0)
-    plain = Wire(np.array([30.0, 100.0]) + along * [1.0, 0.0], 2.0, 0, (0.1,))
+    stripped, plain = rightward_wire([30.0, 40.0], tip_mm=6.0), rightward_wire([30.0, 100.0])
     looks = [WireLook("black", BLACK, ("tinned", "flat"), (6.0, 0.0), 0.0),
              WireLook("black", BLACK, ("flat", "flat"), (0.0, 0.0), 0.0)]
     image = grey_board_image([stripped, plain], looks, 3, board=0.82, noise=0.03)
@@ -1277,10 +1278,8 @@ def test_ridge_ranks_an_end_with_another_centre_line_near_its_span_below_a_lone_
     # unchanged
     from rcl.vision.ridge import reader
     from rcl.vision.scenes import WireLook
-    along = np.arange(0, 110.0, 0.5)[:, None]  # on past the frame's right side
-    crowded = Wire(np.array([30.0, 40.0]) + along * [1.0, 0.0], 2.0, 0, (0.1,))
-    beside = Wire(np.array([-5.0, 43.0]) + np.arange(0, 41.0, 0.5)[:, None] * [1.0, 0.0], 1.0, 0, (0.1,))
-    alone = Wire(np.array([30.0, 100.0]) + along * [1.0, 0.0], 2.0, 0, (0.1,))
+    crowded, alone = rightward_wire([30.0, 40.0]), rightward_wire([30.0, 100.0])
+    beside = rightward_wire([-5.0, 43.0], 41.0, width_mm=1.0)
     black = WireLook("black", BLACK, ("flat", "flat"), (0.0, 0.0), 0.0)
     grey = WireLook("grey", (0.6, 0.6, 0.6), ("flat", "flat"), (0.0, 0.0), 0.0)
     image = grey_board_image([crowded, beside, alone], [black, grey, black], 4)
