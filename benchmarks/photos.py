@@ -13,8 +13,10 @@ PATH is a folder holding one or more of these public sets, fetched as docs/visio
 - pablomalvido/cables_segmentation, real_images: cables in front of real workshop scenes,
   one binary mask per image (wires that touch are one region).
 
-The labels become centre lines and wire ends: each instance is thinned, every thinning end
-traced into the wire and carried out to the label's edge; an end at the frame border, or
+The labels become centre lines and wire ends: each instance is closed over 2 px (a ragged
+edge thins to rings and prongs) and thinned, whiskers of the thinning (a branch that meets
+the rest within a wire's width of its end: a bump on the label's edge, the prongs of a blunt
+end) pruned, every end left traced into the wire and carried out to the label's edge; an end at the frame border, or
 one where the label stops against another wire (it runs under it), is no wire end. A wire
 end is graspable by the same rules as the generated trays' ground truth (synth.py): its
 first 20 mm inside the frame and clear of other wires by 0.5 mm, no other wire (nor the
@@ -149,15 +151,22 @@ class Truth:
 
     def _ends(self, k: int, m: np.ndarray):
         """(path from the end inward, (row, col) px, the end carried out to the label's edge;
-        why it is no wire end, or '') for each thinning end of instance k."""
-        from rcl.vision.binary import thin
-
-        sk = thin(m)
-        pad = np.pad(sk, 1)
+        why it is no wire end, or '') for each end of instance k's label, thinned once closed and
+        without its whiskers."""
         from scipy import ndimage
 
+        from rcl.vision.binary import thin
+
+        spur = max(int(self.edt[thin(m)].max() if m.any() else 2), 3) * 2
+        # a ragged label (pixels left out at its edge) thins to rings and prongs: it is closed
+        # first, over 2 px (and no further: not out to the frame's edge)
+        label, square = m, np.ones((3, 3), bool)
+        m = ndimage.binary_closing(m, square, iterations=2, border_value=1) \
+            & ndimage.binary_dilation(m, square, iterations=2)
+        sk = thin(m)
+        pad = _pruned(np.pad(sk, 1), spur)
+        sk = pad[1:-1, 1:-1]
         count = ndimage.convolve(pad.astype(np.uint8), np.ones((3, 3), np.uint8), mode="constant") - 1
-        spur = max(int(self.edt[sk].max() if sk.any() else 2), 3) * 2
         ends = np.argwhere(pad & (count == 1)) - 1
         pixels = set(map(tuple, np.argwhere(sk).tolist()))
         for r, c in ends.tolist():
@@ -182,7 +191,7 @@ class Truth:
             ahead = tip + d * np.arange(1.0, 4.0)[:, None]
             ai = np.round(ahead).astype(int)
             okq = (ai[:, 0] >= 0) & (ai[:, 0] < self.h) & (ai[:, 1] >= 0) & (ai[:, 1] < self.w)
-            others = self.union & ~m
+            others = self.union & ~label
             if okq.any() and others[ai[okq, 0], ai[okq, 1]].any():
                 yield full, "it runs under another wire"
                 continue
@@ -218,6 +227,42 @@ class Truth:
         if dist[round(g[0]), round(g[1])] / ppm < FINGER_CLEARANCE_MM:
             return False, "no room for the fingers at the grasp point"
         return True, ""
+
+
+def _pruned(sk: np.ndarray, spur: int) -> np.ndarray:
+    """The thinning (padded by a pixel of False) without its whiskers: branches from an end
+    that reach a fork in fewer than `spur` pixels (a bump on the label's edge; the two prongs a
+    blunt end thins to, whose fork is then the end), pruned until none is left. A branch from
+    the frame's edge stays: a wire cut there (frayed into prongs by the label) is not pruned
+    into an end inside the frame."""
+    from scipy import ndimage
+
+    sk = sk.copy()
+    kernel = np.ones((3, 3), np.uint8)
+    h, w = sk.shape
+    for _ in range(4):
+        count = ndimage.convolve(sk.astype(np.uint8), kernel, mode="constant") - 1
+        forks = sk & (count >= 3)
+        cut = []
+        for r, c in np.argwhere(sk & (count == 1)).tolist():
+            if min(r, c, h - 1 - r, w - 1 - c) <= spur:
+                continue  # at the frame's edge (the padding is one of these pixels)
+            branch, (pr, pc) = [(r, c)], (r, c)
+            while len(branch) < spur:
+                nxt = [(pr + dr, pc + dc) for dr in (-1, 0, 1) for dc in (-1, 0, 1)
+                       if (dr or dc) and sk[pr + dr, pc + dc] and (pr + dr, pc + dc) not in branch]
+                if not nxt or any(forks[q] for q in nxt):
+                    break
+                pr, pc = nxt[0]
+                branch.append((pr, pc))
+            else:
+                continue  # a branch as long as spur: a wire's end
+            if nxt:  # (it stopped at a fork, not at a line's other end)
+                cut += branch
+        if not cut:
+            return sk
+        sk[tuple(np.array(cut).T)] = False
+    return sk
 
 
 def _inward(path: np.ndarray, reach: float) -> np.ndarray:

@@ -1059,6 +1059,33 @@ def test_photo_labels_become_wire_ends_judged_as_the_trays_are():
     assert tray.judge(Sighting((200.0, 100.0), 0.0, (260.0, 100.0), 0.0))[0] == "foul"  # mid-wire
 
 
+def test_a_ragged_label_has_its_ends_where_the_wire_has_them():
+    """A bump on a label's edge is no wire end, however far the trace from it runs on through
+    the fork; a blunt end whose pixels the labeller left ragged has one end, where the wire ends;
+    prongs of a label at the frame's edge stay an end cut by the frame."""
+    photos = benchmark("photos")
+    h, w = 300, 400
+    yy, xx = np.mgrid[0:h, 0:w]
+    wire = (np.abs(yy - 150) <= 6) & (xx >= 60)  # 13 px wide, its end at x = 60, cut by the right edge
+    # a bump out of its top edge, 12 px (3 mm, under the wire's width) out from it
+    bump = ((yy - 136) ** 2 + (xx - 220) ** 2 <= 25) | ((np.abs(xx - 220) <= 3) & (yy >= 136) & (yy <= 150))
+    ragged = wire & ~(((xx == 61) | (xx == 63)) & (np.abs(yy - 150) <= 4) & (yy % 2 == 0))
+    ragged &= ~((xx == 62) & (yy == 151))
+    frayed = ragged & ~((xx >= 396) & (np.abs(yy - 150) <= 1))  # two prongs at the frame's edge
+
+    def ends(mask):
+        tray = photos.Truth([mask], 4.0).tray(np.zeros((h, w)))
+        return [(np.round(e.point * 4.0).astype(int), e) for e in tray.ends]
+
+    for mask in (wire | bump, ragged | bump, frayed | bump):
+        found = ends(mask)
+        inside = [(p, e) for p, e in found if p[0] < 300]
+        assert len(inside) == 1, [p for p, _ in found]  # not at the bump (x = 220, y = 131)
+        p, e = inside[0]
+        assert abs(p[0] - 60) <= 3 and abs(p[1] - 150) <= 2 and e.graspable
+        assert not any(e.graspable for p, e in found if p[0] >= 300)  # the frame cuts the other end
+
+
 def test_overlays_show_an_image_at_fixed_levels():
     """An empty tray is drawn as the grey it is, not stretched from its own least to its most
     (which made the noise of an empty tray look like a camera fault)."""
