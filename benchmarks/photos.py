@@ -14,14 +14,14 @@ PATH is a folder holding one or more of these public sets, fetched as docs/visio
   one binary mask per image (wires that touch are one region).
 
 The labels become centre lines and wire ends: each instance is closed over 2 px (a ragged
-edge thins to rings and prongs) and thinned, whiskers of the thinning (a branch that meets
-the rest within a wire's width of its end: a bump on the label's edge, the prongs of a blunt
-end) pruned, every end left traced into the wire and carried out to the label's edge; an end at the frame border, or
-one where the label stops against another wire (it runs under it), is no wire end. A wire
-end is graspable by the same rules as the generated trays' ground truth (synth.py): its
-first 20 mm inside the frame and clear of other wires by 0.5 mm, no other wire (nor the
-same wire further on) within 4 mm of the grasp point 15 mm along it. The photographs have no
-scale: px/mm is the labels' median wire width over --diameter-mm.
+edge thins to rings and prongs) and thinned, the thinning's whiskers (a branch that meets the
+rest within a wire's width of its end: a bump on the label's edge, the prongs of a blunt end)
+pruned, and every end left traced into the wire and carried out to the label's edge; an end
+at the frame border, or one where the label stops against another wire (it runs under it),
+is no wire end. A wire end is graspable by the same rules as the generated trays' ground
+truth (synth.py): its first 20 mm inside the frame and clear of other wires by 0.5 mm, no
+other wire (nor the same wire further on) within 4 mm of the grasp point 15 mm along it. The
+photographs have no scale: px/mm is the labels' median wire width over --diameter-mm.
 
 The first pick is judged as on the trays (Tray.judge): correct if it is a graspable end,
 within 1.5 mm, the direction within 20 degrees, the grasp point on that wire 11-19 mm along
@@ -232,9 +232,9 @@ class Truth:
 def _pruned(sk: np.ndarray, spur: int) -> np.ndarray:
     """The thinning (padded by a pixel of False) without its whiskers: branches from an end
     that reach a fork in fewer than `spur` pixels (a bump on the label's edge; the two prongs a
-    blunt end thins to, whose fork is then the end), pruned until none is left. A branch from
-    the frame's edge stays: a wire cut there (frayed into prongs by the label) is not pruned
-    into an end inside the frame."""
+    blunt end thins to, whose fork is then the end), pruned until none is left. An end within
+    `spur` of the frame's edge stays: a wire cut there (frayed into prongs by the label) is not
+    pruned into an end inside the frame."""
     from scipy import ndimage
 
     sk = sk.copy()

@@ -1067,7 +1067,7 @@ def test_a_ragged_label_has_its_ends_where_the_wire_has_them():
     h, w = 300, 400
     yy, xx = np.mgrid[0:h, 0:w]
     wire = (np.abs(yy - 150) <= 6) & (xx >= 60)  # 13 px wide, its end at x = 60, cut by the right edge
-    # a bump out of its top edge, 12 px (3 mm, under the wire's width) out from it
+    # a bump out of its top edge, 13 px (about the wire's width) out from it
     bump = ((yy - 136) ** 2 + (xx - 220) ** 2 <= 25) | ((np.abs(xx - 220) <= 3) & (yy >= 136) & (yy <= 150))
     ragged = wire & ~(((xx == 61) | (xx == 63)) & (np.abs(yy - 150) <= 4) & (yy % 2 == 0))
     ragged &= ~((xx == 62) & (yy == 151))
