@@ -436,7 +436,7 @@ def test_ridge_refuses_an_end_cut_by_the_frame_and_one_crowded_by_another_wire()
     assert any(uv[0] < 12 for uv, _ in res.rejected)  # the line's end at the left border was refused
     # a second wire crossing 8 mm from the first one's tip: neither end near the crossing is free
     from rcl.vision.scenes import WireLook
-    a = Wire(np.array([40.0, 64.0]) + np.arange(0, 70.0, 0.5)[:, None] * [1.0, 0.0], 2.0, 0, (0.1,))
+    a = rightward_wire([40.0, 64.0], 70.0)
     b = Wire(np.array([48.0, 30.0]) + np.arange(0, 70.0, 0.5)[:, None] * [0.0, 1.0], 2.0, 1, (0.1,))
     look = WireLook("black", BLACK, ("flat", "flat"), (0.0, 0.0), 0.0)
     image = grey_board_image([a, b], [look, look], 1)

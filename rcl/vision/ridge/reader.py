@@ -826,17 +826,20 @@ class EndReader:
 
     def line_near(self, span, width) -> float:
         """How near (mm) another centre line comes to the wire's edge along its span (inf: none
-        within LINE_NEAR_MM): pixels of the centre lines within reach, less the wire's own (within
-        half its width and 1 mm of its line, or nearest its first or last point: its line going on)."""
+        within LINE_NEAR_MM and a pixel of it, across or along): pixels of the centre lines within
+        that reach, less the wire's own (within half its width and 1 mm of its line, or nearest its
+        first or last point: its line going on)."""
         mm = self.wppm
         line = span[0]
+        if len(line) < 3:
+            return math.inf
         half = width / 2
         reach = half + LINE_NEAR_MM * mm + 1.0
         lo = np.maximum(np.floor(line.min(axis=0) - reach).astype(int), 0)
         hi = np.ceil(line.max(axis=0) + reach).astype(int) + 1
         win = self.g.skeleton[lo[0]:hi[0], lo[1]:hi[1]]
         pix = np.column_stack(np.nonzero(win)).astype(float) + lo
-        if not len(pix) or len(line) < 3:
+        if not len(pix):
             return math.inf
         d2 = ((pix[:, None, :] - line[None, :, :]) ** 2).sum(axis=2)
         j = d2.argmin(axis=1)
