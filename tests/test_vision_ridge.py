@@ -671,6 +671,41 @@ def test_ridge_tells_a_broad_patch_of_the_boards_print_past_a_tip_from_the_wire_
     assert taken == (patch == "blob"), res.rejected
 
 
+@pytest.mark.parametrize("bend, goes_on", [(None, False), (0.0, True), (35.0, True)])
+def test_ridge_refuses_an_end_whose_faint_contrast_goes_on_as_the_wire_bends(bend, goes_on):
+    """A dark wire on a light board whose contrast, past where its centre line stops, goes on
+    faintly (8 spreads: under the board's threshold, over FADE_SHARE of the wire's), straight on
+    or bending 35 degrees: the wire fading into a darker patch of the board as it bends (CVF-DLO
+    BWH b3_9, where such a break was taken for the wire's end). The faint band is put into the
+    contrast after the centre lines are found, so that it is no centre line itself. Straight on
+    or bent, the end is refused; with nothing past it, taken. (Only the straight band was
+    refused before the fan past the tip was read in windows off its axis.)"""
+    from scipy import ndimage
+
+    from rcl.vision.ridge import _look
+
+    ppm, size = 4.0, 512
+    yy, xx = np.mgrid[0:size, 0:size] / ppm
+    img = np.where((xx >= 60.0) & (np.abs(yy - 64.0) <= 1.1), 0.15, 0.8)
+    img = ndimage.gaussian_filter(img, 0.8) + np.random.default_rng(0).normal(0, 0.01, img.shape)
+    result, _, _, graph, reader = _look(np.clip(img, 0, 1).astype(np.float32), ppm)
+    mm = reader.wppm
+    tip = np.array([64.0, 60.0]) * mm  # (row, col), working px
+    if bend is not None:
+        a = math.radians(180.0 + bend)
+        rr, cc = np.mgrid[0:reader.h, 0:reader.w]
+        along = (cc - tip[1]) * math.cos(a) + (rr - tip[0]) * math.sin(a)
+        across = (rr - tip[0]) * math.cos(a) - (cc - tip[1]) * math.sin(a)
+        band = (along > 0.3 * mm) & (along < 20.0 * mm) & (np.abs(across) <= 1.1 * mm)
+        reader.f[band] = np.maximum(reader.f[band], 8.0)
+    end = min(graph.ends_in_order(reader.f), key=lambda e: np.hypot(*(np.array(graph.rc(int(e))) - tip)))
+    assert np.hypot(*(np.array(graph.rc(int(end))) - tip)) < 2.0 * mm
+    taken = reader.read(end)
+    assert (taken is None) == goes_on, result.rejected
+    if goes_on:
+        assert [why for _, why in result.rejected] == ["its contrast fades but goes on past its end"]
+
+
 @pytest.mark.parametrize("ppm, light, angle", [(4.0, (0.7, 0.0, 0.71), 120.0), (6.0, (0.7, 0.0, 0.71), 135.0),
                                                 (8.0, (0.0, -0.7, 0.71), 150.0)])
 def test_ridge_takes_a_round_wires_faint_flank_for_the_wire_not_for_something_beside_it(ppm, light, angle):

@@ -34,8 +34,9 @@ only when what lies around it can be seen to be bare board.
    thin line is the board's print, and not followed; the narrow stretch of a bright
    conductor the first scan took counts towards it, and its contrast is the
    conductor's; one that runs on to the frame's border ends there); an end at the frame border,
-   or whose contrast runs on (under another wire) or fades but goes on straight past
-   its tip (unless it fills the fan beyond the tip: a broad patch of print), or whose
+   or whose contrast runs on (under another wire) or fades but goes on past its tip,
+   straight or bending up to 35 degrees (unless it fills the fan beyond the tip: a broad
+   patch of print), or whose
    centre line turns more sharply than a wire bends (a trace run on past a junction
    onto another wire), is refused.
 6. Free: the board must show beside the whole span, beyond the tip, and in a

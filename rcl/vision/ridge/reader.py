@@ -64,6 +64,8 @@ BOARD_SHARE = 0.3  # ... and below this share of the wire's own contrast
 FADE_SHARE = 0.12  # straight past a tip, this share of the wire's contrast still means wire
 FADE_FLOOR = 2.5  # ... and so does this much (spreads): bare board beyond an end is darker than that
 BROAD_SHARE = 0.6  # ... unless it fills this share of the fan beyond the tip: a broad patch of the board's print
+BEND_RAYS = 1  # ... in three neighbouring rays of the fan (17.5 degrees apart) centred up to this many rays off
+# the axis: a wire fading into a darker patch of the board as it bends (CVF-DLO BWH b3_9, 28 degrees)
 RUN_MM = 0.6  # beside the span: contrast this long along the wire is something there
 SPECK_MM = 2.0  # ... unless it is a speck of the board's texture: no larger than this across
 SPECK_TRACE = 0.5  # ... where its contrast is this share of the threshold for a thing there
@@ -674,11 +676,12 @@ class EndReader:
         values = self._seen(np.vstack((band, cap, disc)))
         hit = values >= board
         nb, nc = len(band), len(cap)
-        # straight on past the tip, even a faint contrast that goes on is the wire going on into
-        # light or a colour that hides it, not its end; but not one that fills most of the fan
-        # beyond the tip, as no wire going on does: a broad patch of the board's print
+        # on past the tip, straight or bending a little, even a faint contrast that goes on is the
+        # wire going on into light or a colour that hides it, not its end; but not one that fills
+        # most of the fan beyond the tip, as no wire going on does: a broad patch of the board's print
         fan = values[nb:nb + nc].reshape(len(_FAN), -1) >= max(FADE_FLOOR, FADE_SHARE * level)
-        ahead = fan[len(_FAN) // 2 - 1:len(_FAN) // 2 + 2]
+        mid = len(_FAN) // 2
+        ahead = max((fan[j - 1:j + 2] for j in range(mid - BEND_RAYS, mid + BEND_RAYS + 1)), key=np.count_nonzero)
         if np.count_nonzero(ahead) >= ahead.size // 2 and np.count_nonzero(fan) < BROAD_SHARE * fan.size:
             return "its contrast fades but goes on past its end"
         # beside the span, something that goes on for RUN_MM along it (a speck of the board's
