@@ -1208,6 +1208,31 @@ def test_two_tones_masks_by_disc_are_the_euclidean_distance_transforms_threshold
     assert np.array_equal(contrast._near(mask, radius), ndimage.distance_transform_edt(~mask) <= radius)
 
 
+@pytest.mark.parametrize("shape, wppm", [((448, 336), 2.077), ((512, 512), 4.0), ((241, 319), 2.6)])
+def test_the_boards_block_medians_are_each_blocks_own(shape, wppm):
+    """The board's colour per block is the median of every third pixel inside that block, from
+    its corner, against plain numpy per block, with pixels skipped and without. (The samples once
+    ran on in steps of 3 across the image and were cut into equal runs, so that each block took a
+    few pixels fewer than it holds and the runs drifted off the blocks: 50 px by the last block of
+    mBEST S2 img17, whose lower blocks were measured on a wire 25 mm above them.)"""
+    import sys
+
+    contrast = sys.modules["rcl.vision.ridge.contrast"]
+    rng = np.random.default_rng(shape[0])
+    work = rng.random((*shape, 3)).astype(np.float32)
+    skip = rng.random(shape) < 0.3
+    for skipped in (None, skip):
+        board, (nby, nbx, bh, bw) = contrast._block_medians(work, wppm, skipped)
+        assert board.shape == (nby, nbx, 3) and nby * bh <= shape[0] < (nby + 1) * bh
+        for i in range(nby):
+            for j in range(nbx):
+                r, c = slice(i * bh, (i + 1) * bh, 3), slice(j * bw, (j + 1) * bw, 3)
+                px = work[r, c].reshape(-1, 3)
+                if skipped is not None:
+                    px = px[~skipped[r, c].ravel()]
+                assert np.allclose(board[i, j], np.median(px, axis=0))
+
+
 def test_two_tones_near_black_do_not_make_a_tone_brighter_than_white():
     """A photograph on a black cloth (mBEST S2, img49): the background split into two tones
     near black, and where a block showed only the darker one, the lighter was that colour times

@@ -153,11 +153,14 @@ def _block_medians(work: np.ndarray, wppm: float,
     b = max(round(BOARD_BLOCK_MM * wppm), 4)
     nby, nbx = max(h // b, 1), max(w // b, 1)
     bh, bw = h // nby, w // nbx
-    sh, sw = len(range(0, nby * bh, 3)) // nby, len(range(0, nbx * bw, 3)) // nbx
+    within_r, within_c = np.arange(0, bh, 3), np.arange(0, bw, 3)  # every third pixel of a block, from its corner
+    rows = (np.arange(nby)[:, None] * bh + within_r).ravel()
+    cols = (np.arange(nbx)[:, None] * bw + within_c).ravel()
+    sh, sw = len(within_r), len(within_c)
 
     def blocked(a: np.ndarray) -> np.ndarray:
         """Every third pixel of each block: (nby, nbx, samples, channels)."""
-        sub = a[:nby * bh:3, :nbx * bw:3][:nby * sh, :nbx * sw]
+        sub = a[rows[:, None], cols[None, :]]
         return sub.reshape(nby, sh, nbx, sw, -1).transpose(0, 2, 1, 3, 4).reshape(nby, nbx, sh * sw, -1)
 
     blocks = blocked(work)
