@@ -31,23 +31,15 @@ class Graph:
         self.W = self.w + 2
         self.flat = np.pad(skeleton, 1).ravel().copy()
         self.offsets = [dr * self.W + dc for dr, dc in NEIGHBOURS]
-        # the offsets of the set neighbours, in that order, for each code of _count's
-        self._steps = [tuple(o for bit, o in enumerate(self.offsets) if c >> bit & 1) for c in range(256)]
-        self._codes: bytes | None = None
         self._window = None
         self.short = np.zeros(0, np.int64)  # ends on lines too short to read (set by ends_in_order)
         self._count()
 
     def _count(self) -> None:
-        """Each pixel's degree, and which of its neighbours are set (bit i: offsets[i]), for trace."""
         on = np.flatnonzero(self.flat)
         self.degree = np.zeros(len(self.flat), np.uint8)
-        code = np.zeros(len(self.flat), np.uint8)
-        for bit, o in enumerate(self.offsets):
-            there = self.flat[on + o]
-            self.degree[on] += there
-            code[on] |= there.astype(np.uint8) << bit
-        self._codes = code.tobytes()  # bytes: a Python index per pixel is cheap
+        for o in self.offsets:
+            self.degree[on] += self.flat[on + o]
 
     @property
     def skeleton(self) -> np.ndarray:
@@ -66,18 +58,13 @@ class Graph:
     def trace(self, start: int, limit_px: float) -> tuple[list[int], str]:
         """Follow the centre line from an end for limit_px of arc: (pixels, how it stopped:
         'crossing', 'end' or 'far')."""
-        codes, steps = self._codes, self._steps
-        if codes is None:  # (while spurs are pruned the neighbours change: looked up as they are)
-            flat = self.flat.tobytes()
+        flat, offsets = self.flat.tobytes(), self.offsets  # bytes: a Python index per pixel is cheap
         path = [start]
         prev = -1
         cur = start
         arc = 0.0
         while arc < limit_px:
-            if codes is None:
-                nxt = [cur + o for o in self.offsets if flat[cur + o] and cur + o != prev and cur + o not in path[-3:]]
-            else:
-                nxt = [cur + o for o in steps[codes[cur]] if cur + o != prev and cur + o not in path[-3:]]
+            nxt = [cur + o for o in offsets if flat[cur + o] and cur + o != prev and cur + o not in path[-3:]]
             if not nxt:
                 jump = self.across_gap(path) if len(path) > 4 else None
                 if jump is None:
@@ -101,7 +88,6 @@ class Graph:
 
     def prune_spurs(self) -> None:
         limit = SPUR_MM * self.wppm
-        self._codes = None  # (the lines change as they are pruned)
         for e in self.ends():
             if not self.flat[e]:
                 continue
