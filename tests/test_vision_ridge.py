@@ -266,6 +266,39 @@ def test_ridge_finds_a_lone_wire_end_its_direction_and_grasp(angle):
     assert abs((s.grasp_angle - math.degrees(math.atan2(d[1], d[0])) + 90) % 180 - 90) < 4
 
 
+@pytest.mark.parametrize("angle", [0.0, 20.0, 135.0])
+def test_ridge_finds_a_lone_wire_end_in_an_image_worked_on_in_blocks_a_pixel_and_a_half_wide(angle):
+    """At 3-4 px/mm the working image is averaged over squares 1.5 px wide: what it finds is put
+    back on the input image's pixels."""
+    ppm = 3.5
+    image, centre, d = straight_wire_image(angle, tip_mm=(64.0, 64.0), ppm=ppm)
+    assert working_image(image, ppm)[1] == 1.5
+    res = find_wires_ridge(image, ppm)
+    assert res.candidates and res.scale == 1.5, res.rejected
+    s = res.candidates[0]
+    end = np.array(s.end) / ppm
+    near = np.linalg.norm(centre[0] - end) <= np.linalg.norm(centre[-1] - end)
+    tip, inward = (centre[0], d) if near else (centre[-1], -d)
+    assert np.linalg.norm(end - tip) < 0.6
+    a = math.radians(s.end_angle)
+    assert np.dot([math.cos(a), math.sin(a)], inward) > math.cos(math.radians(4))
+    assert abs(np.linalg.norm(np.array(s.grasp) / ppm - tip) - 15.0) < 0.6
+
+
+def test_two_thirds_average_is_the_mean_over_squares_a_pixel_and_a_half_wide():
+    from rcl.vision.common import two_thirds_average
+
+    rng = np.random.default_rng(3)
+    for image in (rng.random((8, 10, 3)), rng.random((9, 7))):
+        h, w = image.shape[0] // 3 * 3, image.shape[1] // 3 * 3
+        # each pixel cut in four (2 x 2 halves), then 3 x 3 of those averaged: 1.5 x 1.5 px squares
+        fine = np.repeat(np.repeat(image[:h, :w], 2, axis=0), 2, axis=1)
+        want = fine.reshape(h * 2 // 3, 3, w * 2 // 3, 3, *image.shape[2:]).mean(axis=(1, 3))
+        got = two_thirds_average(image)
+        assert got.dtype == np.float32 and got.shape == want.shape
+        np.testing.assert_allclose(got, want, rtol=1e-6)
+
+
 def test_ridge_takes_a_thick_glossy_wire_whose_highlight_is_as_light_as_the_board():
     """Seen in the cell: a 3 mm black wire lit from above shows a specular line along its middle,
     lighter than its grey board, which splits its contrast in two; its width was measured as one

@@ -7,7 +7,8 @@ wire beside a black one and a copper tip all stand out alike; it finds centre
 lines as ridges of that contrast at the scales wires have, and it takes an end
 only when what lies around it can be seen to be bare board.
 
-1. The working image: k x k block averaging to 2-4 px/mm, colour kept; a tray's rim
+1. The working image: averaged to 2-3 px/mm (k x k blocks, or 1.5 px wide ones at 3-4
+   px/mm; below 3 px/mm the image as it is), colour kept; a tray's rim
    (or the bench round the tray) along a side of the frame found (find_rim): what
    lies beyond it is off the tray.
 2. Contrast: the board's colour is estimated per BOARD_BLOCK_MM block (the median,
@@ -83,7 +84,7 @@ class RidgeResult:
     candidates: list = field(default_factory=list)
     timings: dict = field(default_factory=dict)
     skeleton: np.ndarray | None = None  # the centre lines on the working grid
-    scale: int = 1  # input pixels per working pixel
+    scale: float = 1  # input pixels per working pixel (1.5 at 3-4 px/mm)
     rejected: list = field(default_factory=list)  # ((u, v) input px, why) for each refused end
 
 

@@ -8,9 +8,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...camera.images import ImageError
-from ..common import block_average
+from ..common import block_average, two_thirds_average
 from .lattice import without_lattice
 
+THIRDS_FROM = 3.0  # px/mm from which an image is worked on in blocks 1.5 px wide, not as it is (2-2.7 px/mm)
 SHADOW_LIGHT = (0.55, 0.97)  # a shadow leaves this share of the board's light: darker is a thing, lighter is board
 SHADOW_TINT = 2.0  # ... and adds no more other colour than this (spreads)
 MIN_SPREAD = 0.012  # the least board spread believed (3 grey levels): JPEG and sensor noise at the least
@@ -29,8 +30,10 @@ TONE_PATCHY = 0.005  # ... fill this share of the tray TONE_THICK_MM inside them
 TONE_GAIN = 0.5  # ... and taken so if it leaves less than this share of those places above TONE_F
 
 
-def working_image(image: np.ndarray, px_per_mm: float) -> tuple[np.ndarray, int]:
-    """(the image block-averaged to 2-4 px/mm as float32 (rows, cols, channels), the block size)."""
+def working_image(image: np.ndarray, px_per_mm: float) -> tuple[np.ndarray, float]:
+    """(the image averaged to 2-3 px/mm as float32 (rows, cols, channels), the input pixels per
+    working pixel k): k x k blocks, k = px/mm // 2, and blocks 1.5 px wide at 3-4 px/mm (each 3 x 3
+    pixels become 2 x 2); below 3 px/mm, the image as it is."""
     a = np.asarray(image)
     scale = 1.0 / 255.0 if a.dtype == np.uint8 else 1.0 / 65535.0 if a.dtype == np.uint16 else 1.0
     if a.ndim == 2:
@@ -39,10 +42,12 @@ def working_image(image: np.ndarray, px_per_mm: float) -> tuple[np.ndarray, int]
         raise ImageError(f"an image is rows x columns (x 3 colours) of numbers, not shape {np.shape(image)}")
     a = a[:, :, :3]
     k = max(1, int(px_per_mm // 2.0))
-    h, w = a.shape[0] // k * k, a.shape[1] // k * k
-    if h < 16 * k or w < 16 * k:
+    if a.shape[0] < 16 * k or a.shape[1] < 16 * k:
         raise ImageError(f"the image ({a.shape[1]} x {a.shape[0]} px) is too small to find wires in")
-    out = block_average(a[:h, :w], k)
+    if k == 1 and px_per_mm >= THIRDS_FROM:
+        out, k = two_thirds_average(a), 1.5
+    else:
+        out = block_average(a, k)
     if scale != 1.0:
         out *= np.float32(scale)
     if not np.isfinite(out).all():
@@ -62,7 +67,7 @@ class Contrast:
     unit: np.ndarray
 
 
-def contrast(work: np.ndarray, wppm: float, outside: np.ndarray | None = None, k: int = 1) -> Contrast:
+def contrast(work: np.ndarray, wppm: float, outside: np.ndarray | None = None, k: float = 1) -> Contrast:
     """The contrast F: the board's colour estimated per BOARD_BLOCK_MM block (the median, then the
     median of 3 x 3 blocks, so blocks full of wire are outvoted), subtracted, a printed lattice on
     the board (a cutting mat's grid) taken out of the difference (lattice.py; k: input pixels per

@@ -25,7 +25,7 @@ LATTICE_PAIRS = 6  # peaks with a perpendicular twin needed before the picture i
 LONGEST_MM = 30.0  # periods longer than this are the light's falloff and the board's mottle, not a lattice
 
 
-def without_lattice(diff: np.ndarray, wppm: float, k: int = 1) -> tuple[np.ndarray, int]:
+def without_lattice(diff: np.ndarray, wppm: float, k: float = 1) -> tuple[np.ndarray, int]:
     """(diff with a square lattice taken out, how many of the lattice's peaks paired up; 0: no
     lattice, and diff itself).
     diff: (rows, cols, channels) difference from the board on the working grid, wppm its px/mm,
@@ -96,7 +96,7 @@ def _taper(h: int, w: int) -> np.ndarray:
     return (np.hanning(h)[:, None] * np.hanning(w)[None, :]).astype(np.float32)
 
 
-def _on_block_grid(f: np.ndarray, k: int, tol: float) -> np.ndarray:
+def _on_block_grid(f: np.ndarray, k: float, tol: float) -> np.ndarray:
     """Which frequencies (cycles per working px) lie within tol of a harmonic of JPEG's 8-pixel
     blocks (k input pixels per working pixel)."""
     step = k / 8.0  # cycles per working px of the blocks' first harmonic

@@ -104,7 +104,7 @@ NO_ROOM = "no room for the fingers at the grasp point"
 class EndReader:
     """Reads one centre-line end: classify it, follow its tip, check it is free, make a Sighting."""
 
-    def __init__(self, con: Contrast, flat: np.ndarray, fine: np.ndarray, graph: Graph, wppm: float, k: int,
+    def __init__(self, con: Contrast, flat: np.ndarray, fine: np.ndarray, graph: Graph, wppm: float, k: float,
                  result: RidgeResult, outside: np.ndarray | None = None) -> None:
         self.con = con
         self.f = con.f  # the contrast
