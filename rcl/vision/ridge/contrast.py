@@ -41,13 +41,14 @@ def working_image(image: np.ndarray, px_per_mm: float) -> tuple[np.ndarray, floa
     if a.ndim != 3 or a.shape[2] not in (1, 3, 4) or not np.issubdtype(a.dtype, np.number):
         raise ImageError(f"an image is rows x columns (x 3 colours) of numbers, not shape {np.shape(image)}")
     a = a[:, :, :3]
-    k = max(1, int(px_per_mm // 2.0))
-    if a.shape[0] < 16 * k or a.shape[1] < 16 * k:
+    n = max(1, int(px_per_mm // 2.0))
+    if a.shape[0] < 16 * n or a.shape[1] < 16 * n:
         raise ImageError(f"the image ({a.shape[1]} x {a.shape[0]} px) is too small to find wires in")
-    if k == 1 and px_per_mm >= THIRDS_FROM:
+    k: float = n
+    if n == 1 and px_per_mm >= THIRDS_FROM:
         out, k = two_thirds_average(a), 1.5
     else:
-        out = block_average(a, k)
+        out = block_average(a, n)
     if scale != 1.0:
         out *= np.float32(scale)
     if not np.isfinite(out).all():
