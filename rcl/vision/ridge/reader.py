@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..common import FRAME_MARGIN_MM, GRASP_MM, principal_direction
+from ..common import FRAME_MARGIN_MM, GRASP_MM, median, principal_direction
 from ..sighting import Sighting
 from .contrast import Contrast, _corners, _mix, bilinear, shadow_free
 from .graph import SPAN_MM, Graph
@@ -174,7 +174,7 @@ class EndReader:
             inward = -inward
         # the wire's contrast and width along its first SPAN_MM
         core = self.sample(line)
-        level = float(np.median(core))
+        level = float(median(core))
         board = max(BOARD_FLOOR, BOARD_SHARE * level)
         width = self.width(line, board)
         took = self.take(start, line, how, inward, level, board, width)
@@ -347,7 +347,7 @@ class EndReader:
                 or across.max() > bow * reach:
             return None
         line = own[np.argsort(along)]
-        level = float(np.median(self.sample(line)))
+        level = float(median(self.sample(line)))
         board = max(BOARD_FLOOR, BOARD_SHARE * level)
         width = self.width(line, board)
         seen = self._seen(self.fingers_room(p, own, width))
@@ -369,7 +369,7 @@ class EndReader:
             ray = scan[:, None, :] + lateral[None, :, None] * side
             along = self._seen(ray.reshape(-1, 2), False).reshape(len(scan), len(lateral)).max(axis=1)
             on = scan_s >= 2.0 * mm
-            level = float(np.median(along[on])) if on.any() else 0.0
+            level = float(median(along[on])) if on.any() else 0.0
             if level < BOARD_FLOOR:
                 return "no wire to be seen at its end"
             end = _drop(along, scan_s, max(0.5 * BOARD_FLOOR, TIP_SHARE * level))
@@ -409,7 +409,7 @@ class EndReader:
         d = best[2]
         if float(d.max() - d.min()) > 0.8 * mm:
             return None
-        gap = float(np.median(d))
+        gap = float(median(d))
         return best[1] * gap / 2.0, gap
 
     def casts_shadow(self, line: np.ndarray, width: float) -> bool:
@@ -444,7 +444,7 @@ class EndReader:
         v = self.sample((pts[:, None, :] + offs[None, :, None] * n[:, None, :]).reshape(-1, 2)).reshape(len(pts), -1)
         board = v[:, 3:5].mean(axis=1)
         middle = v[:, :3].max(axis=1) - board
-        return float(np.median((v[:, 5:7].mean(axis=1) - board) / np.maximum(middle, 1e-9))), float(np.median(middle))
+        return float(median((v[:, 5:7].mean(axis=1) - board) / np.maximum(middle, 1e-9))), float(median(middle))
 
     def conductor(self, end: np.ndarray, out: np.ndarray, width: float,
                   flanks: Callable[[], tuple[float, float]] = lambda: (0.0, 0.0)) -> np.ndarray:
@@ -499,14 +499,14 @@ class EndReader:
         length = steps[run - 1] - (steps[s0] if followed else 0.0)
         if run == z or (not followed and run - z < n) or length < CONDUCTOR_MIN_MM * mm:
             return end  # nothing that runs on far enough: the blur of the end itself, or its shadow
-        if np.median(wide[s0:run]) > CONDUCTOR_NARROW * np.median(rise[s0:run]):
+        if median(wide[s0:run]) > CONDUCTOR_NARROW * median(rise[s0:run]):
             return end  # as wide as the wire: the end's shadow or the blur of a rounded end
         # its tip, as the insulation's: where its contrast, averaged over the window, falls to
         # TIP_SHARE of what it is along it over half the window (an average over a centred window
         # crosses a step's half height where it steps; over less, the dips of a line thinner than two
         # pixels fall below it well inside the conductor)
         short = ndimage.uniform_filter1d(rise, max(n // 2, 1), mode="nearest")
-        own = float(np.median(short[s0:run]))
+        own = float(median(short[s0:run]))
         edge = max(CONDUCTOR_CONTRAST, TIP_SHARE * own)
         low = z + np.flatnonzero(mean[z:run] < edge)
         if not followed:  # not in the tip's own first window (it reaches back onto the insulation)
@@ -519,7 +519,7 @@ class EndReader:
         else:
             a, b = mean[i - 1], mean[i]
             reach = float(steps[i - 1] + np.clip((a - edge) / max(a - b, 1e-6), 0, 1) * 0.5)
-        if followed and np.median(mean[z:i]) < CONDUCTOR_STEADY * np.median(mean[s0:z]):
+        if followed and median(mean[z:i]) < CONDUCTOR_STEADY * median(mean[s0:z]):
             return end  # it does not hold its contrast past end: the end's blur or shadow
         if i >= run == len(steps) and framed < len(ahead):
             return end + out * reach  # on to the frame's border
@@ -562,7 +562,7 @@ class EndReader:
         base = np.median(near, axis=1)
         peak = near.max(axis=1) - base
         wide = np.count_nonzero(near - base[:, None] >= 0.5 * peak[:, None], axis=1) * 0.5 > RUN_ON_WIDE_MM * mm
-        return bool(np.median(np.where(wide, 0.0, peak)) >= RUN_ON_CONTRAST)
+        return bool(median(np.where(wide, 0.0, peak)) >= RUN_ON_CONTRAST)
 
     def lighter(self, end: np.ndarray, out: np.ndarray) -> bool:
         """Whether the wire's last mm before end (out: out of the wire) is lighter than the board
@@ -572,7 +572,7 @@ class EndReader:
         p = _mix(self.con.work, *at).reshape(len(pts), -1)
         b = _mix(self.con.board, *at).reshape(len(pts), -1)
         light = (p * b).sum(axis=1) / np.maximum((b * b).sum(axis=1), 1e-9)
-        return bool(np.median(light) > 1.0)
+        return bool(median(light) > 1.0)
 
     def recentred(self, line: np.ndarray, width: float) -> np.ndarray:
         """The centre line moved across the wire to the middle of its contrast (sub-pixel); the
@@ -633,8 +633,8 @@ class EndReader:
         hi = np.where(~above & (at > m), at, above.shape[1]).min(axis=1) - 1
         widths = (hi - lo + 1)[seen] * 0.5
         middle = ((lo + hi)[seen] * 0.5 - mid) * 0.5
-        return (float(np.clip(np.median(widths), 1.0, 4.0 * self.wppm)), float(widths.max() - widths.min()),
-                float(np.median(middle)))
+        return (float(np.clip(median(widths), 1.0, 4.0 * self.wppm)), float(widths.max() - widths.min()),
+                float(median(middle)))
 
     def span(self, full, grasp, width) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """What the free test and the room round an end look beside: the centre line along the
@@ -993,14 +993,24 @@ def _bridged(rows: np.ndarray, gap: int) -> np.ndarray:
 
 def _normals(line: np.ndarray) -> np.ndarray:
     """The unit normal (row, col) at each point of a polyline, from its central differences."""
-    t = np.gradient(line, axis=0)
-    t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-9)
-    return np.column_stack([-t[:, 1], t[:, 0]])
+    t = np.empty_like(line, dtype=float)  # (np.gradient's values, without its cost on short lines)
+    if len(line) < 2:
+        t[:] = 0.0
+    else:
+        t[1:-1] = (line[2:] - line[:-2]) / 2.0
+        t[0] = line[1] - line[0]
+        t[-1] = line[-1] - line[-2]
+    size = np.sqrt(t[:, 0] * t[:, 0] + t[:, 1] * t[:, 1])
+    np.maximum(size, 1e-9, out=size)
+    return np.column_stack([-t[:, 1] / size, t[:, 0] / size])
 
 
 def _arc(pts: np.ndarray) -> np.ndarray:
     """The arc length along a polyline at each of its points, from 0 at the first."""
-    return np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
+    d = pts[1:] - pts[:-1]
+    out = np.zeros(len(pts))
+    np.cumsum(np.sqrt(d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1]), out=out[1:])
+    return out
 
 
 def _resample(pts: np.ndarray, step: float) -> np.ndarray:
