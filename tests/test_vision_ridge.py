@@ -314,52 +314,6 @@ def test_median_is_numpys_median_of_a_short_array():
     assert np.isnan(median(a)) and np.isnan(np.median(a))
 
 
-def test_the_traced_line_is_the_same_after_spurs_are_pruned():
-    """Graph.trace reads neighbour masks kept up to date as spurs are cut: after pruning, a trace
-    from every end is the walk over the skeleton's own pixels (each step to the one line pixel
-    round the last that is not among the last few; two ways on: a crossing, unless they are an
-    edge neighbour and the diagonal beside it)."""
-    from rcl.vision.ridge.graph import Graph
-    from rcl.vision.ridge.lines import NEIGHBOURS
-
-    def walk(g, start, limit):
-        flat, W = g.flat, g.W
-        path, prev, cur, arc = [start], -1, start, 0.0
-        while arc < limit:
-            nxt = [cur + dr * W + dc for dr, dc in NEIGHBOURS
-                   if flat[cur + dr * W + dc] and cur + dr * W + dc != prev and cur + dr * W + dc not in path[-3:]]
-            if not nxt:
-                jump = g.across_gap(path) if len(path) > 4 else None
-                if jump is None:
-                    return path, "end"
-                (r0, c0), (r1, c1) = divmod(jump, W), divmod(cur, W)
-                arc += math.hypot(r0 - r1, c0 - c1)
-                prev, cur = -1, jump
-                path.append(cur)
-                continue
-            if len(nxt) > 1:
-                edge = [q for q in nxt if abs(q - cur) in (1, W)]
-                (ra, ca), (rb, cb) = divmod(nxt[0], W), divmod(nxt[1], W)
-                if len(nxt) == 2 and len(edge) == 1 and max(abs(ra - rb), abs(ca - cb)) == 1:
-                    nxt = edge
-                else:
-                    return path, "crossing"
-            arc += 1.0 if abs(nxt[0] - cur) in (1, W) else 1.4142
-            prev, cur = cur, nxt[0]
-            path.append(cur)
-        return path, "far"
-
-    for seed in (230007, 230011):
-        t = random_tray(seed)
-        res = find_wires_ridge(t.image, t.px_per_mm)
-        g = Graph(res.skeleton, t.px_per_mm / res.scale)
-        g.prune_spurs()
-        ends = g.ends()
-        assert len(ends) >= 4
-        for e in ends:
-            assert g.trace(int(e), 80.0) == walk(g, int(e), 80.0)
-
-
 def test_ridge_takes_a_thick_glossy_wire_whose_highlight_is_as_light_as_the_board():
     """Seen in the cell: a 3 mm black wire lit from above shows a specular line along its middle,
     lighter than its grey board, which splits its contrast in two; its width was measured as one

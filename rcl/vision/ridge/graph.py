@@ -3,7 +3,6 @@ reading, and places to take a wire by its middle."""
 from __future__ import annotations
 
 import math
-from functools import lru_cache
 
 import numpy as np
 
@@ -33,8 +32,6 @@ class Graph:
         self.flat = np.pad(skeleton, 1).ravel().copy()
         self.offsets = [dr * self.W + dc for dr, dc in NEIGHBOURS]
         self._window = None
-        self._nb: bytearray | None = None  # each line pixel's neighbours on lines, a bit per offset (for trace)
-        self._masks = _mask_table(self.W)
         self.short = np.zeros(0, np.int64)  # ends on lines too short to read (set by ends_in_order)
         self._count()
 
@@ -61,14 +58,13 @@ class Graph:
     def trace(self, start: int, limit_px: float) -> tuple[list[int], str]:
         """Follow the centre line from an end for limit_px of arc: (pixels, how it stopped:
         'crossing', 'end' or 'far')."""
-        nb, table = self._neighbours(), self._masks
+        flat, offsets = self.flat.tobytes(), self.offsets  # bytes: a Python index per pixel is cheap
         path = [start]
         prev = -1
         cur = start
         arc = 0.0
         while arc < limit_px:
-            recent = path[-3:]
-            nxt = [q for q in (cur + o for o in table[nb[cur]]) if q != prev and q not in recent]
+            nxt = [cur + o for o in offsets if flat[cur + o] and cur + o != prev and cur + o not in path[-3:]]
             if not nxt:
                 jump = self.across_gap(path) if len(path) > 4 else None
                 if jump is None:
@@ -90,27 +86,6 @@ class Graph:
             path.append(cur)
         return path, "far"
 
-    def _neighbours(self) -> bytearray:
-        """Each line pixel's neighbours on lines as a bit per offset (bit b: offsets[b]); a Python
-        index into a bytearray per step of a trace is cheap."""
-        if self._nb is None:
-            on = np.flatnonzero(self.flat)
-            nb = np.zeros(len(self.flat), np.uint8)
-            for b, o in enumerate(self.offsets):
-                nb[on] |= self.flat[on + o].astype(np.uint8) << b
-            self._nb = bytearray(nb.tobytes())
-        return self._nb
-
-    def _forget(self, pixels: list[int]) -> None:
-        """The neighbour masks kept up to date after `pixels` are taken off the lines."""
-        if self._nb is None:
-            return
-        nb = self._nb
-        for p in pixels:
-            nb[p] = 0
-            for o in self.offsets:
-                nb[p + o] &= 0xFF ^ (1 << self.offsets.index(-o))
-
     def prune_spurs(self) -> None:
         limit = SPUR_MM * self.wppm
         for e in self.ends():
@@ -118,12 +93,9 @@ class Graph:
                 continue
             path, how = self.trace(int(e), limit)
             if how == "crossing":
-                gone = path[:-1] if len(path) > 1 else path
-                self.flat[gone] = False
-                self._forget(gone)
+                self.flat[path[:-1] if len(path) > 1 else path] = False
         _cut_corners(self.flat, self.W)  # a whisker gone may leave a corner where it joined
         _trim_crosses(self.flat, self.W)  # ... or the stub of one next to the stubs of others
-        self._nb = None
         self._count()
 
     def across_gap(self, path: list[int]) -> int | None:
@@ -246,14 +218,6 @@ class Graph:
         score = np.minimum(length[piece], 2 * SPAN_MM * self.wppm) * \
             np.minimum(f[np.clip(r - 1, 0, self.h - 1), np.clip(c - 1, 0, self.w - 1)], 50.0)
         return [int(e) for e in ends[np.argsort(-score)]]
-
-
-@lru_cache(maxsize=8)
-def _mask_table(W: int) -> tuple[tuple[int, ...], ...]:
-    """For each 8-bit neighbour mask (Graph._neighbours, rows W wide), the offsets it holds, in
-    NEIGHBOURS' order."""
-    offsets = [dr * W + dc for dr, dc in NEIGHBOURS]
-    return tuple(tuple(o for b, o in enumerate(offsets) if m >> b & 1) for m in range(256))
 
 
 def _adjacent(a: int, b: int, W: int) -> bool:
