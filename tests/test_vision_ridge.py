@@ -314,6 +314,33 @@ def test_median_is_numpys_median_of_a_short_array():
     assert np.isnan(median(a)) and np.isnan(np.median(a))
 
 
+def test_a_band_point_inside_a_hook_of_the_line_is_on_the_wire_itself():
+    """The free test's bands beside a span are sampled along the line's normals; where the line
+    hooks (a ridge bending at an end cut aslant, seen on mBEST's photographs) a point on the
+    inside of the bend falls on the wire's own body. _on_itself tells such points, and not a
+    point beside a straight stretch, nor one on a far part of the same wire that loops back."""
+    from rcl.vision.ridge.reader import _on_itself
+
+    half = 3.0
+    # a hook: 5 px going right, then down a long leg (1 px steps)
+    line = np.array([[0.0, c] for c in range(5)] + [[r, 4.0] for r in range(1, 60)])
+    # beside the hook's third point, 4.5 px below it (its normal there points down): on the leg
+    pts = np.array([[4.5, 2.0], [-4.5, 2.0], [30.0, 4.0 + 4.5], [30.0, 4.0 - 4.5]])
+    at = np.array([2, 2, 34, 34])
+    assert _on_itself(pts, at, line, half, 9.0).tolist() == [True, False, False, False]
+    # the same wire coming back beside itself 50 px along: not itself
+    loop = np.vstack([line, [[59.0, 4.0 - c] for c in range(1, 8)], [[59.0 - r, -3.0] for r in range(1, 60)]])
+    p = np.array([[10.0, 4.0 - 4.5]])  # beside the leg's row 10, 2.5 px from the returning part
+    assert not _on_itself(p, np.array([14]), loop, half, 9.0)[0]
+    # against a plain reference: every line point within the window, nearest distance
+    rng = np.random.default_rng(2)
+    pts = rng.uniform(-5, 60, (200, 2))
+    at = rng.integers(0, len(line), 200)
+    want = [min(np.hypot(*(line[j] - p)) for j in range(max(a - 9, 0), min(a + 9, len(line) - 1) + 1)) < half
+            for p, a in zip(pts, at)]
+    assert _on_itself(pts, at, line, half, 9.0).tolist() == want
+
+
 def test_ridge_takes_a_thick_glossy_wire_whose_highlight_is_as_light_as_the_board():
     """Seen in the cell: a 3 mm black wire lit from above shows a specular line along its middle,
     lighter than its grey board, which splits its contrast in two; its width was measured as one

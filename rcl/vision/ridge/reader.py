@@ -674,8 +674,15 @@ class EndReader:
         cap = (tip[None, None, :] + (half + np.array([0.7, 1.0, 1.4, 2.0, 2.8]) * SIDE_FREE_MM * mm)[None, :, None]
                * dirs[:, None, :]).reshape(-1, 2)
         values = self._seen(np.vstack((band, cap, disc)))
-        hit = values >= board
         nb, nc = len(band), len(cap)
+        # where the line bends (a ridge hooking at an end cut aslant, a tight curl), a point of the
+        # bands on the inside of the bend may fall on the wire itself, nearer its centre line than
+        # half its width: that is no thing beside it
+        low = max(CROSS_FLOOR, CROSS_SHARE * level)  # (the least that counts beside it, below)
+        seen = np.flatnonzero(values[:nb] >= min(board, low))
+        if len(seen):
+            values[seen[_on_itself(band[seen], seen // (nb // len(line)), line, half, 2.0 * offs[-1])]] = 0.0
+        hit = values >= board
         # on past the tip, straight or bending a little, even a faint contrast that goes on is the
         # wire going on into light or a colour that hides it, not its end; but not one that fills
         # most of the fan beyond the tip, as no wire going on does: a broad patch of the board's print
@@ -714,7 +721,6 @@ class EndReader:
             self._drop_specks(runs, at, line, half, board, level, need)
             if _runs_on(runs, need):
                 return BESIDE
-        low = max(CROSS_FLOOR, CROSS_SHARE * level)
         if low < board and self._faint_across(beside, at, line, half, low, level, need):
             return BESIDE
         if np.count_nonzero(hit[nb:nb + nc]) >= CAP_HITS:
@@ -980,6 +986,16 @@ def _disc_template(radius10: int) -> np.ndarray:
 def _disc(radius: float) -> np.ndarray:
     """Points 0.75 px apart filling a disc of the radius (px) round the origin."""
     return _disc_template(round(radius * 10))
+
+
+def _on_itself(pts: np.ndarray, at: np.ndarray, line: np.ndarray, half: float, reach: float) -> np.ndarray:
+    """Which points lie nearer than half to the polyline `line` (1 px steps) within reach px along
+    it of line[at] (each point's own place on it, where it was sampled round): on the wire itself,
+    where its line bends. (A part of the same wire farther along that comes back beside it is not itself.)"""
+    m = int(math.ceil(reach))
+    j = np.clip(at[:, None] + np.arange(-m, m + 1)[None, :], 0, len(line) - 1)
+    d2 = ((line[j] - pts[:, None, :]) ** 2).sum(axis=2)
+    return d2.min(axis=1) < half * half
 
 
 def _bridged(rows: np.ndarray, gap: int) -> np.ndarray:
