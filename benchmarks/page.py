@@ -1,6 +1,6 @@
 """The run page of the main job: what writing it costs beyond the run, and how big it is.
 
-    python benchmarks/page.py [SEED ...] [--screenshot FILE.png]   (default seed 3)
+    python benchmarks/page.py [SEED ...] [--screenshot FILE.png]   (default seed 0)
 
 Per seed: the run's wall time without a page, the time write_page takes after it (the looks'
 JPEGs, the arm drawn along its path, the data), and the folder's size in all and by part.
@@ -63,7 +63,7 @@ def main(argv: list[str]) -> None:
         i = argv.index("--screenshot")
         shot = Path(argv[i + 1])
         argv = argv[:i] + argv[i + 2:]
-    seeds = [int(a) for a in argv] or [3]
+    seeds = [int(a) for a in argv] or [0]
     print(describe())
     print(f"{'seed':>4} {'run s':>7} {'page s':>7} {'total MB':>9} {'index.html':>11} {'plotly.js':>10} {'looks/':>8}")
     for k, seed in enumerate(seeds):
