@@ -1024,7 +1024,7 @@ def _normals(line: np.ndarray) -> np.ndarray:
 def _arc(pts: np.ndarray) -> np.ndarray:
     """The arc length along a polyline at each of its points, from 0 at the first."""
     d = pts[1:] - pts[:-1]
-    out = np.zeros(len(pts))
+    out = np.zeros(max(len(pts), 1))  # (an empty polyline: [0], as before)
     np.cumsum(np.sqrt(d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1]), out=out[1:])
     return out
 
