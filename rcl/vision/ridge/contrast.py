@@ -371,11 +371,14 @@ def _corners(h: int, w: int, pts: np.ndarray) -> tuple[np.ndarray, np.ndarray, n
 
 def _mix(layers: np.ndarray, i: np.ndarray, fr: np.ndarray, fc: np.ndarray) -> np.ndarray:
     h, w = layers.shape[:2]
+    at = (i, i + 1, i + w, i + w + 1)  # the four neighbours, gathered once from the flattened layers
     if layers.ndim == 3:
         fr, fc = fr[:, None], fc[:, None]
-        a, b, c, d = (layers.reshape(h * w, -1).take(j, axis=0) for j in (i, i + 1, i + w, i + w + 1))
+        rows = layers.reshape(h * w, -1)
+        a, b, c, d = (rows.take(j, axis=0) for j in at)
     else:
-        a, b, c, d = (layers.reshape(-1).take(j) for j in (i, i + 1, i + w, i + w + 1))
+        flat = layers.reshape(-1)
+        a, b, c, d = (flat.take(j) for j in at)
     gc = 1 - fc
     return (a * gc + b * fc) * (1 - fr) + (c * gc + d * fc) * fr
 
