@@ -835,6 +835,68 @@ def test_ridge_takes_the_end_with_the_most_room_round_it():
     assert res.candidates[0].score > max(s.score for s in res.candidates[1:])
 
 
+def test_working_image_reads_at_a_given_scale():
+    from rcl.vision.common import block_average, two_thirds_average
+    rng = np.random.default_rng(5)
+    image = rng.integers(0, 256, (96, 120, 3)).astype(np.uint8)
+    for ppm, k, want in ((5.0, 3, block_average(image, 3)), (5.0, 1.5, two_thirds_average(image)),
+                         (3.5, 1, image.astype(np.float32)), (3.5, None, two_thirds_average(image)),
+                         (9.0, None, block_average(image, 4))):
+        work, got_k = working_image(image, ppm, k)
+        assert got_k == (k if k is not None else (1.5 if ppm < 4 else 4))
+        np.testing.assert_allclose(work, want / 255.0, rtol=1e-6)
+
+
+def test_an_end_is_confirmed_at_the_next_coarser_and_the_next_finer_scale():
+    from rcl.vision.ridge import _other_scales
+    assert _other_scales(1) == [1.5]  # (nothing finer than the image itself)
+    assert _other_scales(1.5) == [2, 1]
+    assert _other_scales(2) == [3, 1.5]
+    assert _other_scales(3) == [4, 2]
+
+
+def test_ridge_puts_first_the_best_free_end_that_both_other_scales_find_free(monkeypatch):
+    # two lone wires, both ends free; which other-scale readings "find" which end is faked, to
+    # check the order: the best end both confirm comes first, the rest keep their order, and
+    # where none is confirmed by both (or only within 1.5 mm, or turned 30 degrees) the order
+    # stands; then the real readings, which find both ends, change nothing
+    import rcl.vision.ridge as ridge
+    from rcl.vision.scenes import WireLook
+    from rcl.vision.sighting import Sighting
+    a, b = rightward_wire([30.0, 40.0]), rightward_wire([40.0, 100.0])
+    looks = [WireLook("black", BLACK, ("flat", "flat"), (0.0, 0.0), 0.0)] * 2
+    image = grey_board_image([a, b], looks, 4)
+    plain = find_wires_ridge(image, 4.0, confirm=False).candidates
+    assert len(plain) == 2, plain
+    assert find_wires_ridge(image, 4.0).candidates == plain
+    moved = Sighting((plain[1].end[0] + 6.0, plain[1].end[1]), plain[1].end_angle, plain[1].grasp,
+                     plain[1].grasp_angle)
+    turned = Sighting(plain[1].end, plain[1].end_angle + 30.0, plain[1].grasp, plain[1].grasp_angle)
+    for finds, first in (({3: [plain[1]], 1.5: [plain[1]]}, plain[1]),
+                         ({3: [plain[1]], 1.5: [plain[0]]}, plain[0]),
+                         ({3: [plain[1]], 1.5: []}, plain[0]),
+                         ({3: [plain[1]], 1.5: [moved]}, plain[0]),
+                         ({3: [turned], 1.5: [plain[1]]}, plain[0])):
+        def free_near(self, c, finds=finds):  # what the reading at scale self.k finds near c
+            return [s for s in finds[self.k] if np.hypot(s.end[0] - c.end[0], s.end[1] - c.end[1]) < 8.0]
+        monkeypatch.setattr(ridge._Rereading, "free_near", free_near)
+        got = find_wires_ridge(image, 4.0).candidates  # (4 px/mm: worked on at k = 2; the others 3 and 1.5)
+        assert got[0] == first and sorted(got, key=lambda s: -s.score) == plain
+
+
+@pytest.mark.parametrize("seed, before", [(206211, "foul"), (203891, "foul")])
+def test_ridge_takes_an_end_the_other_scales_confirm_over_a_roomier_one_they_do_not(seed, before):
+    # development trays where the roomiest free end was a foul (206211: a tinned conductor not
+    # seen at the working scale, the tip put 3.4 mm short; 203891: an end touching another wire)
+    # and the next one, which the coarser and the finer reading also find free, correct
+    tray = random_tray(seed)
+    plain = find_wires_ridge(tray.image, tray.px_per_mm, confirm=False).candidates
+    confirmed = find_wires_ridge(tray.image, tray.px_per_mm).candidates
+    assert tray.judge(plain[0])[0] == before
+    assert tray.judge(confirmed[0])[0] == "correct"
+    assert sorted(confirmed, key=lambda s: -s.score) == plain
+
+
 def test_ridge_copes_with_blank_noise_tiny_and_bad_images():
     assert find_wires_ridge(np.full((128, 128), 0.5)).candidates == []
     assert find_wires_ridge(np.random.default_rng(1).uniform(size=(256, 256))).candidates == []
@@ -1241,7 +1303,7 @@ def test_ridge_ranks_an_end_whose_tip_lies_on_a_faint_conductor_below_an_as_room
     image = grey_board_image([stripped, plain], looks, 3, board=0.82, noise=0.03)
 
     def scores():
-        res = find_wires_ridge(image, 4.0)
+        res = find_wires_ridge(image, 4.0, confirm=False)  # (the order by score alone)
         ends = [np.array(s.end) / 4.0 for s in res.candidates]
         tinned = [s.score for s, e in zip(res.candidates, ends) if np.linalg.norm(e - [30.0, 40.0]) < 1.0]
         insulated = [s.score for s, e in zip(res.candidates, ends) if np.linalg.norm(e - [30.0, 100.0]) < 1.0]

@@ -57,6 +57,14 @@ only when what lies around it can be seen to be bare board.
    just missed makes an end a worse bet); another centre line within LINE_NEAR_MM of
    the span's edge, however faint, makes it a worse bet too (LINE_WEIGHT); a tip found
    along a faint conductor, the less sure, counts a little less (CONDUCTOR_DOUBT).
+8. Confirmed at two other scales: the image is read again at the next coarser and the next
+   finer working scale (blocks one step wider and narrower; below 3 px/mm only the coarser),
+   only the centre-line ends near the free ends being read; the best free end for which both
+   readings find a free end too, its tip within CONFIRM_MM and its direction within
+   CONFIRM_DEG, comes first. If no free end is so confirmed, the order of step 7 stands, so
+   this makes no miss: it puts first an end that does not hang on how the image happened to
+   be sampled (a thin conductor seen at one scale and not the next, a faint neighbour just
+   over or under a threshold).
 """
 from __future__ import annotations
 
@@ -76,6 +84,10 @@ __all__ = ["RidgeResult", "find_middle", "find_rim", "find_wires_ridge", "thin_s
 SATURATION = 12.0  # contrast (spreads) beyond which a wire is simply there: highlights count no more
 LOOP_BOW = 0.8  # find_middle where no place bows as little as MIDDLE_BOW: a line bowing this much (a small loop)
 ENOUGH = 0  # free ends to find before the search stops (0: all, which costs ~5 % more time); the roomiest is taken
+CONFIRM_MM = 1.0  # a free end is confirmed where the image read at the next coarser and the next finer working
+CONFIRM_DEG = 20.0  # scale has a free end too, its tip within CONFIRM_MM and its direction within CONFIRM_DEG
+CONFIRM_NEAR_MM = 16.0  # ... (there only the centre-line ends this near a free end are read: a tip lies up to
+# TIP_MAX_MM past its line's end)
 
 
 @dataclass
@@ -89,8 +101,10 @@ class RidgeResult:
     rejected: list = field(default_factory=list)  # ((u, v) input px, why) for each refused end
 
 
-def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = ENOUGH) -> RidgeResult:
-    """Graspable wire ends in an image (grey or colour) at px_per_mm, best first."""
+def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = ENOUGH,
+                     confirm: bool = True) -> RidgeResult:
+    """Graspable wire ends in an image (grey or colour) at px_per_mm, best first. confirm: the
+    best free end that the image read at two other scales finds free too comes first (step 8)."""
     result, clock, began, graph, reader = _look(image, px_per_mm)
     ordered = graph.ends_in_order(reader.f)
     for end in graph.short:
@@ -103,8 +117,71 @@ def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = EN
                 break
     result.candidates.sort(key=lambda s: -s.score)
     clock("ends")
+    if confirm and len(result.candidates) >= 2:
+        _confirm(image, px_per_mm, result)
+        clock("confirm")
     result.timings["total"] = (clock.last - began) * 1000.0
     return result
+
+
+def _confirm(image: np.ndarray, px_per_mm: float, result: RidgeResult) -> None:
+    """Step 8: the free ends (best first) asked in turn whether the image read at the next
+    coarser and the next finer working scale has a free end there too (CONFIRM_MM,
+    CONFIRM_DEG); the first that both have is put first. If none is, the order stands."""
+    from ...camera.images import ImageError
+
+    others = []
+    for k in _other_scales(result.scale):
+        try:
+            others.append(_Rereading(image, px_per_mm, k))
+        except ImageError:  # the image is too small to read at that scale
+            continue
+    if not others:
+        return
+    cands = result.candidates
+    tol = CONFIRM_MM * px_per_mm
+    for i, c in enumerate(cands):
+        if all(any(_agree(c, s, tol) for s in o.free_near(c)) for o in others):
+            cands.insert(0, cands.pop(i))
+            return
+
+
+def _other_scales(k: float) -> list[float]:
+    """The working scales (input px per working px) next coarser and next finer than k."""
+    coarser = {1: 1.5, 1.5: 2}.get(k, k + 1)
+    finer = {1: None, 1.5: 1, 2: 1.5}.get(k, k - 1)
+    return [s for s in (coarser, finer) if s is not None]
+
+
+class _Rereading:
+    """The image read again at working scale k, its centre-line ends read only where asked."""
+
+    def __init__(self, image: np.ndarray, px_per_mm: float, k: float) -> None:
+        _, _, _, graph, self.reader = _look(image, px_per_mm, k)
+        self.k = k
+        self.ends = graph.ends_in_order(self.reader.f)
+        self.at = graph.rcs(list(self.ends)) if self.ends else np.zeros((0, 2))
+        self.near = CONFIRM_NEAR_MM * px_per_mm / k
+        self.read: dict = {}  # end -> its Sighting or None
+
+    def free_near(self, c) -> list:
+        """The free ends whose centre line ends within CONFIRM_NEAR_MM of Sighting c's tip."""
+        u, v = c.end
+        tip = np.array([(v + 0.5) / self.k - 0.5, (u + 0.5) / self.k - 0.5])
+        d2 = ((self.at - tip) ** 2).sum(axis=1)
+        out = []
+        for e in (e for e, d in zip(self.ends, d2) if d <= self.near * self.near):
+            if e not in self.read:
+                self.read[e] = self.reader.read(e)
+            if self.read[e] is not None:
+                out.append(self.read[e])
+        return out
+
+
+def _agree(a, b, tol: float) -> bool:
+    """Whether two Sightings are the same end: tips within tol input px, directions within CONFIRM_DEG."""
+    turn = abs((b.end_angle - a.end_angle + 180.0) % 360.0 - 180.0)
+    return bool(np.hypot(b.end[0] - a.end[0], b.end[1] - a.end[1]) <= tol and turn <= CONFIRM_DEG)
 
 
 def find_middle(image: np.ndarray, px_per_mm: float = 4.0) -> RidgeResult:
@@ -128,12 +205,13 @@ def find_middle(image: np.ndarray, px_per_mm: float = 4.0) -> RidgeResult:
     return result
 
 
-def _look(image: np.ndarray, px_per_mm: float):
-    """The stages before ends are read: (result, clock, start time, the wire graph, its reader)."""
+def _look(image: np.ndarray, px_per_mm: float, k: float | None = None):
+    """The stages before ends are read: (result, clock, start time, the wire graph, its reader);
+    k: the working scale, if not the usual."""
     result = RidgeResult()
     clock = Clock(result.timings)
     began = clock.last
-    work, k = working_image(image, px_per_mm)
+    work, k = working_image(image, px_per_mm, k)
     wppm = px_per_mm / k
     result.scale = k
     clock("average")

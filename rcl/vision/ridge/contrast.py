@@ -30,10 +30,11 @@ TONE_PATCHY = 0.005  # ... fill this share of the tray TONE_THICK_MM inside them
 TONE_GAIN = 0.5  # ... and taken so if it leaves less than this share of those places above TONE_F
 
 
-def working_image(image: np.ndarray, px_per_mm: float) -> tuple[np.ndarray, float]:
+def working_image(image: np.ndarray, px_per_mm: float, k: float | None = None) -> tuple[np.ndarray, float]:
     """(the image averaged to 2-3 px/mm as float32 (rows, cols, channels), the input pixels per
     working pixel k): k x k blocks, k = px/mm // 2, and blocks 1.5 px wide at 3-4 px/mm (each 3 x 3
-    pixels become 2 x 2); below 3 px/mm, the image as it is."""
+    pixels become 2 x 2); below 3 px/mm, the image as it is. Given k (1, 1.5 or a whole number),
+    blocks that wide whatever px/mm is."""
     a = np.asarray(image)
     scale = 1.0 / 255.0 if a.dtype == np.uint8 else 1.0 / 65535.0 if a.dtype == np.uint16 else 1.0
     if a.ndim == 2:
@@ -41,14 +42,14 @@ def working_image(image: np.ndarray, px_per_mm: float) -> tuple[np.ndarray, floa
     if a.ndim != 3 or a.shape[2] not in (1, 3, 4) or not np.issubdtype(a.dtype, np.number):
         raise ImageError(f"an image is rows x columns (x 3 colours) of numbers, not shape {np.shape(image)}")
     a = a[:, :, :3]
-    n = max(1, int(px_per_mm // 2.0))
+    thirds = k == 1.5 if k is not None else px_per_mm >= THIRDS_FROM and px_per_mm < 4.0
+    n = max(1, int(k if k is not None else px_per_mm // 2.0))
     if a.shape[0] < 16 * n or a.shape[1] < 16 * n:
         raise ImageError(f"the image ({a.shape[1]} x {a.shape[0]} px) is too small to find wires in")
-    k: float = n
-    if n == 1 and px_per_mm >= THIRDS_FROM:
+    if thirds:
         out, k = two_thirds_average(a), 1.5
     else:
-        out = block_average(a, n)
+        out, k = block_average(a, n), n
     if scale != 1.0:
         out *= np.float32(scale)
     if not np.isfinite(out).all():
