@@ -42,8 +42,8 @@ def working_image(image: np.ndarray, px_per_mm: float, k: float | None = None) -
     if a.ndim != 3 or a.shape[2] not in (1, 3, 4) or not np.issubdtype(a.dtype, np.number):
         raise ImageError(f"an image is rows x columns (x 3 colours) of numbers, not shape {np.shape(image)}")
     a = a[:, :, :3]
-    thirds = k == 1.5 if k is not None else px_per_mm >= THIRDS_FROM and px_per_mm < 4.0
     n = max(1, int(k if k is not None else px_per_mm // 2.0))
+    thirds = k == 1.5 if k is not None else n == 1 and px_per_mm >= THIRDS_FROM
     if a.shape[0] < 16 * n or a.shape[1] < 16 * n:
         raise ImageError(f"the image ({a.shape[1]} x {a.shape[0]} px) is too small to find wires in")
     if thirds:
