@@ -11,7 +11,9 @@ PATH is a folder holding one or more of these public sets, fetched as docs/visio
 - StructuresComp/mBEST, dataset/S1-S3: single-colour wires on a black board, an instance
   label per wire (a wire passing under another is cut in two there);
 - pablomalvido/cables_segmentation, real_images: cables in front of real workshop scenes,
-  one binary mask per image (wires that touch are one region).
+  one binary mask per image (wires that touch are one region); and synthetic_images: 180 of
+  its images rendered in Blender (another renderer than ours: cables on stone, wood, grass,
+  concrete and fabric textures, or in front of workshop scenes, six kinds of 30), masks alike.
 
 The labels become centre lines and wire ends: each instance is closed over 2 px (a ragged
 edge thins to rings and prongs) and thinned, the thinning's whiskers (a branch that meets the
@@ -83,6 +85,14 @@ def sets(root: Path):
             if m.exists():
                 items.append((img, _components(m)))
         yield "cables_segmentation real", items
+    for synth in sorted(root.rglob("synthetic_images")):
+        items = []
+        for kind in sorted(d for d in synth.iterdir() if (d / "masks").is_dir()):
+            for img in sorted((kind / "images").glob("*.png")):
+                m = kind / "masks" / img.name
+                if m.exists():
+                    items.append((img, _components(m)))
+        yield "cables_segmentation synthetic", items
 
 
 def _instances(npy: Path):
