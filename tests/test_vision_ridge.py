@@ -1232,6 +1232,47 @@ def test_photo_labels_become_wire_ends_judged_as_the_trays_are():
     assert tray.judge(Sighting((200.0, 100.0), 0.0, (260.0, 100.0), 0.0))[0] == "foul"  # mid-wire
 
 
+def test_photos_finds_each_public_set_laid_out_as_fetched(tmp_path):
+    from PIL import Image
+
+    photos = benchmark("photos")
+    pic = Image.fromarray(np.zeros((64, 64, 3), np.uint8))
+    mask = np.zeros((64, 64), np.uint8)
+    mask[10:18, 4:60] = 255  # (the workshop scenes' masks drop regions under 200 px)
+    bwh = tmp_path / "CVF-DLO" / "DATASETS" / "BWH"
+    (bwh / "imgs").mkdir(parents=True)
+    (bwh / "labels").mkdir()
+    pic.save(bwh / "imgs" / "b1_1.jpg")
+    Image.fromarray(mask).save(bwh / "labels" / "b1_1_0.png")
+    pic.save(bwh / "imgs" / "b1_2.jpg")  # (no labels: left out)
+    for s in ("S1", "S2", "S3"):
+        d = tmp_path / "mBEST" / "dataset" / s
+        (d / "images").mkdir(parents=True)
+        (d / "gt_labels").mkdir()
+        pic.save(d / "images" / "img1.jpg")
+        np.save(d / "gt_labels" / "img1.npy", (mask > 0).astype(np.int32) * 3)
+    real = tmp_path / "cables" / "real_images"
+    (real / "images").mkdir(parents=True)
+    (real / "masks").mkdir()
+    pic.save(real / "images" / "1.jpeg")
+    Image.fromarray(mask).save(real / "masks" / "1.jpeg", quality=95)
+    for kind in ("far", "close_aligned_concentrated_light"):
+        d = tmp_path / "cables" / "synthetic_images" / kind
+        (d / "images").mkdir(parents=True)
+        (d / "masks").mkdir()
+        for n in ("1681403320", "1681403584"):
+            pic.save(d / "images" / f"{n}.png")
+            Image.fromarray(mask).save(d / "masks" / f"{n}.png")
+    found = {name: items for name, items in photos.sets(tmp_path)}
+    assert {k: len(v) for k, v in found.items()} == {
+        "CVF-DLO BWH": 1, "mBEST S1": 1, "mBEST S2": 1, "mBEST S3": 1,
+        "cables_segmentation real": 1, "cables_segmentation synthetic": 4}
+    for name, items in found.items():
+        for _, masks_of in items:
+            masks = masks_of()
+            assert len(masks) == 1 and masks[0][14, 30] and not masks[0][30, 30], name
+
+
 def test_a_ragged_label_has_its_ends_where_the_wire_has_them():
     """A bump on a label's edge is no wire end, however far the trace from it runs on through
     the fork; a blunt end whose pixels the labeller left ragged has one end, where the wire ends;
@@ -1526,3 +1567,53 @@ def test_ridge_ranks_an_end_with_another_centre_line_near_its_span_below_a_lone_
     assert ranked["alone"] == pytest.approx(unranked["alone"])
     factor = unranked["crowded"] / ranked["crowded"]  # 1 + 0.5 * (3 - d) / 3
     assert 1.0 + 0.5 * (3.0 - 2.4) / 3.0 <= factor <= 1.0 + 0.5, factor
+
+
+def crossed_image(cover, wire_from=20.0, cover_mm=(42.0, 45.5), ppm=4.0, size=512, patch_from=None):
+    """A dark wire 2.2 mm wide along row 64 mm from `wire_from` to 100 mm on a light board,
+    with a stripe (another wire lying across it, columns cover_mm) of grey `cover` drawn over
+    it; left of patch_from mm, if given, the whole height is the wire's own grey."""
+    from scipy import ndimage
+
+    yy, xx = np.mgrid[0:size, 0:size] / ppm
+    img = np.full((size, size), 0.8)
+    img[(xx >= wire_from) & (xx <= 100.0) & (np.abs(yy - 64.0) <= 1.1)] = 0.15
+    if patch_from is not None:
+        img[xx < patch_from] = 0.15
+    img[(xx >= cover_mm[0]) & (xx <= cover_mm[1])] = cover
+    img = ndimage.gaussian_filter(img, 0.8) + np.random.default_rng(0).normal(0, 0.01, img.shape)
+    return np.clip(img, 0, 1).astype(np.float32)
+
+
+@pytest.mark.parametrize("cover, wire_from, patch_from, reappears", [
+    (0.7, 20.0, None, True),  # the wire goes on under a wire of nearly the board's grey
+    (0.7, 45.5, None, False),  # ... its true end against that wire: nothing of it past
+    (0.15, 45.5, None, False),  # its end against a wire of its own grey lying across
+    (0.7, 45.5, 41.0, False),  # past a faint wire, a broad patch of the wire's grey (a dark chair)
+    (0.8, 20.0, None, False),  # bare board between: another wire of its grey beyond its end
+])
+def test_ridge_sees_a_wire_show_again_past_a_faint_wire_lying_over_it(cover, wire_from, patch_from, reappears):
+    """Seen on cables_segmentation's rendered images: a blue wire passing under a tan one on
+    yellow stone. The tan wire hardly stands out, the blue wire's contrast ends at its edge and
+    that was taken for the blue wire's end. EndReader.reappears: past the tip, after a stretch
+    of another colour, the wire's own colour again, as narrow as a wire going on."""
+    from rcl.vision.ridge import _look
+
+    image = crossed_image(cover, wire_from, patch_from=patch_from)
+    *_, reader = _look(image, 4.0)
+    mm = reader.wppm
+    tip = np.array([64.0, 45.6]) * mm - 0.5 * (reader.k - 1) / reader.k
+    line = tip + np.arange(2.0, 12.0, 0.5)[:, None] * mm * np.array([0.0, 1.0])
+    level = float(np.median(reader.sample(line)))
+    assert level > 10.0
+    assert reader.reappears(tip, np.array([0.0, 1.0]), 2.2 * mm, level) == reappears
+    # and the finder: no end taken at the faint wire where the wire goes on under it (without
+    # this test, both ends there were taken)
+    res = find_wires_ridge(image, 4.0)
+    at_cover = [s for s in res.candidates if min(abs(s.end[0] - 168.0), abs(s.end[0] - 182.0)) < 8
+                and abs(s.end[1] - 256.0) < 8]
+    why = [w for (u, v), w in res.rejected if 160.0 < u < 190.0 and abs(v - 256.0) < 8]
+    if reappears:
+        assert not at_cover and any("shows again" in w for w in why)
+    else:
+        assert not any("shows again" in w for w in why)

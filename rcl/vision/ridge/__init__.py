@@ -37,7 +37,8 @@ only when what lies around it can be seen to be bare board.
    conductor's; one that runs on to the frame's border ends there); an end at the frame border,
    or whose contrast runs on (under another wire) or fades but goes on past its tip,
    straight or bending up to 35 degrees (unless it fills the fan beyond the tip: a broad
-   patch of print), or whose
+   patch of print), or whose wire shows again in its own colour a few mm on, narrow, past
+   something faint lying across its end (a wire of nearly the board's colour over it), or whose
    centre line turns more sharply than a wire bends (a trace run on past a junction
    onto another wire), is refused.
 6. Free: the board must show beside the whole span, beyond the tip, and in a

@@ -97,6 +97,13 @@ EXTENT_GROW = 1.15  # ... this much wider than the width read at PEAK_SHARE or m
 EXTENT_STEADY_MM = 0.6  # ... as wide to this much at each of the places it is measured,
 EXTENT_OFF = 0.2  # ... and centred on the centre line to this share of it (a wire lit from one side, its
 # dim flank over the board but under PEAK_SHARE of the lit one; a neighbour close beside it is off to one side)
+REAPPEAR_MM = 7.0  # past a tip, the wire's colour again starting within this (something across the way first),
+REAPPEAR_RUN_MM = 2.0  # ... for this long, on a ray
+REAPPEAR_DEG = 20.0  # ... straight on or turned up to this
+REAPPEAR_SHARE = 0.4  # ... nearer the wire's colour than this share of the board's beside the wire
+REAPPEAR_SIDE_MM = 1.0  # ... and narrow: not so this far out from its edges on either side
+REAPPEAR_ACROSS = 0.1  # ... where what lies between stands out of the board by this share of the wire's contrast
+REAPPEAR_DIFFERS = 0.3  # asked only where the wire differs from the board beside it by this share of its contrast
 BESIDE = "another wire or something lies beside it"
 NO_ROOM = "no room for the fingers at the grasp point"
 
@@ -282,6 +289,8 @@ class EndReader:
         tangent = principal_direction(full[near]) if near.sum() >= 3 else inward
         if not gap and self.hidden(on_axis, inward, width, level):
             return "past its end the image has the wire's own colour: it may go on unseen"
+        if not gap and self.reappears(on_axis, inward, width, level):
+            return "its wire shows again past something across its end: it runs under it"
         span = self.span(full, grasp, width)
         why = self.crowded(span, tip, out, width, board, level)
         if why:
@@ -318,6 +327,61 @@ class EndReader:
                      float(np.linalg.norm(values[2 * n:3 * n].mean(axis=0) - wire)))
         past = float(np.linalg.norm(values[3 * n:] - wire, axis=1).max())
         return beside >= HIDDEN_SIDE * level and past < HIDDEN_SHARE * beside
+
+    def reappears(self, tip: np.ndarray, inward: np.ndarray, width: float, level: float) -> bool:
+        """Whether the wire shows again past its tip, beyond something lying across the way that
+        does not stand out (a wire of nearly the board's colour lying over it): on a ray from the
+        tip (straight on, or bending up to REAPPEAR_DEG), after a stretch not of the wire's colour,
+        the wire's own colour again for REAPPEAR_RUN_MM or more, starting within REAPPEAR_MM of
+        the tip, and narrow: the board's colour beside it, REAPPEAR_SIDE_MM out from its edges on
+        both sides (a wire of the same colour lying across the way is that colour there too); and
+        what lies between stands out of the board, if faintly (REAPPEAR_ACROSS of the wire's
+        contrast, at the median: bare board between is the wire's end, with another wire of its
+        colour beyond). Colours compared raw, in F's units, as in hidden(); asked only where the
+        wire differs from the board beside it by REAPPEAR_DIFFERS of its contrast, and where every
+        sample lies in the frame."""
+        mm = self.wppm
+        side = np.array([-inward[1], inward[0]])
+        inner = tip + np.arange(1.0, 4.01, 0.5)[:, None] * mm * inward
+        off = (width / 2 + HIDDEN_MM * mm) * side
+        steps = np.arange(0.5, REAPPEAR_MM + REAPPEAR_RUN_MM + 0.01, 0.25) * mm
+        angles = np.radians(np.arange(-REAPPEAR_DEG, REAPPEAR_DEG + 0.1, REAPPEAR_DEG / 2))
+        out = -inward
+        rays = np.cos(angles)[:, None] * out + np.sin(angles)[:, None] * side  # (A, 2)
+        pts = tip[None, None, :] + steps[None, :, None] * rays[:, None, :]  # (A, S, 2)
+        lat = (width / 2 + REAPPEAR_SIDE_MM * mm) * np.stack([-rays[:, 1], rays[:, 0]], axis=1)  # (A, 2)
+        n = len(inner)
+        grid = np.vstack([inner, inner + off, inner - off, pts.reshape(-1, 2),
+                          (pts + lat[:, None, :]).reshape(-1, 2), (pts - lat[:, None, :]).reshape(-1, 2)])
+        inside = (grid[:, 0] >= 0) & (grid[:, 1] >= 0) & (grid[:, 0] <= self.h - 1) & (grid[:, 1] <= self.w - 1)
+        if not inside.all():
+            return False
+        values = bilinear(self.con.work, grid) * self.con.unit
+        wire = values[:n].mean(axis=0)
+        beside = min(float(np.linalg.norm(values[n:2 * n].mean(axis=0) - wire)),
+                     float(np.linalg.norm(values[2 * n:3 * n].mean(axis=0) - wire)))
+        if beside < REAPPEAR_DIFFERS * level:
+            return False
+        m = pts.shape[0] * pts.shape[1]
+        near = np.linalg.norm(values[3 * n:] - wire, axis=1) < REAPPEAR_SHARE * beside
+        on = near[:m].reshape(pts.shape[:2])
+        narrow = on & ~near[m:2 * m].reshape(pts.shape[:2]) & ~near[2 * m:].reshape(pts.shape[:2])
+        run = max(int(round(REAPPEAR_RUN_MM / 0.25)), 1)
+        latest = int(round((REAPPEAR_MM - 0.5) / 0.25))  # the last step a run may start at
+        for a in range(len(angles)):
+            gone = np.flatnonzero(~on[a])
+            if not len(gone):
+                continue  # the wire's colour all the way: not this test's (hidden() or the tip's)
+            first = int(gone[0])
+            good = np.concatenate([[0], np.cumsum(narrow[a])])
+            for start in range(first + 1, min(latest, len(steps) - run) + 1):
+                if good[start + run] - good[start] == run:
+                    # something lies across the way between (bare board there: the wire ended, and
+                    # another of its colour lies beyond)
+                    if median(self.sample(pts[a, first:start])) >= REAPPEAR_ACROSS * level:
+                        return True
+                    break
+        return False
 
     def middle(self, p: np.ndarray, bow: float = MIDDLE_BOW):
         """A Sighting to take the wire by its middle at centre-line point p, or None (refused):
