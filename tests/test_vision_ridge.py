@@ -855,6 +855,38 @@ def test_an_end_is_confirmed_at_the_next_coarser_and_the_next_finer_scale():
     assert _other_scales(3) == [4, 2]
 
 
+def test_a_mask_resampled_to_another_working_scale_covers_the_same_input_pixels():
+    from rcl.vision.ridge import _resampled
+
+    rng = np.random.default_rng(3)
+    mask = rng.random((40, 60)) < 0.3  # working pixels of 2 x 2 input pixels
+    on_input = np.kron(mask, np.ones((2, 2), bool))  # (80, 120) input pixels
+    for k, shape in ((3, (26, 40)), (1.5, (53, 80)), (1, (80, 120))):
+        # each working pixel of scale k: the input pixel under its centre
+        rows = np.floor((np.arange(shape[0]) + 0.5) * k).astype(int)
+        cols = np.floor((np.arange(shape[1]) + 0.5) * k).astype(int)
+        np.testing.assert_array_equal(_resampled(mask, 2, k, shape), on_input[rows[:, None], cols[None, :]])
+
+
+def test_a_reading_at_another_scale_takes_the_first_readings_rim():
+    """Step 8's readings at the other scales take the rim the first reading found (resampled),
+    not seek it again."""
+    from rcl.vision.ridge import _look
+
+    rng = np.random.default_rng(5)
+    image = 0.6 + rng.normal(0, 0.01, (400, 480, 3))
+    image[:, :40] = (0.3, 0.35, 0.3)  # a rim 40 px (10 mm at 4 px/mm) along the left side
+    image[200:206, 120:400] = 0.1  # a wire
+    image = image.astype(np.float32)
+    *_, first = _look(image, 4.0)
+    assert first.k == 2 and first.outside[:, :19].all() and not first.outside[:, 22:].any()
+    for k in (3, 1.5):
+        *_, again = _look(image, 4.0, k, first)
+        edge = 40 / k  # the rim's edge on that grid
+        assert again.outside[:, :int(edge) - 1].all() and not again.outside[:, int(edge) + 2:].any()
+        assert again.rim is not None  # (and the reader measures from it)
+
+
 def test_ridge_puts_first_the_best_free_end_that_both_other_scales_find_free(monkeypatch):
     # two lone wires, both ends free; which other-scale readings "find" which end is faked, to
     # check the order: the best end both confirm comes first, the rest keep their order, and

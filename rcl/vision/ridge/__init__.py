@@ -60,7 +60,9 @@ only when what lies around it can be seen to be bare board.
    along a faint conductor, the less sure, counts a little less (CONDUCTOR_DOUBT).
 8. Confirmed at two other scales: the image is read again at the next coarser and the next
    finer working scale (blocks one step wider and narrower; below 3 px/mm only the coarser),
-   only the centre-line ends near the free ends being read; the best free end for which both
+   only the centre-line ends near the free ends being read (the rim the first reading found is
+   taken, resampled, not sought again: what they check is how the wires and their ends were
+   sampled, not where the tray is); the best free end for which both
    readings find a free end too, its tip within CONFIRM_MM and its direction within
    CONFIRM_DEG, comes first. If no free end is so confirmed, the order of step 7 stands, so
    this makes no miss: it puts first an end that does not hang on how the image happened to
@@ -119,22 +121,23 @@ def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = EN
     result.candidates.sort(key=lambda s: -s.score)
     clock("ends")
     if confirm and len(result.candidates) >= 2:
-        _confirm(image, px_per_mm, result)
+        _confirm(image, px_per_mm, result, reader)
         clock("confirm")
     result.timings["total"] = (clock.last - began) * 1000.0
     return result
 
 
-def _confirm(image: np.ndarray, px_per_mm: float, result: RidgeResult) -> None:
+def _confirm(image: np.ndarray, px_per_mm: float, result: RidgeResult, first: EndReader) -> None:
     """Step 8: the free ends (best first) asked in turn whether the image read at the next
     coarser and the next finer working scale has a free end there too (CONFIRM_MM,
-    CONFIRM_DEG); the first that both have is put first. If none is, the order stands."""
+    CONFIRM_DEG); the first that both have is put first. If none is, the order stands. The rim
+    the first reading (first) found is taken, resampled, not sought again."""
     from ...camera.images import ImageError
 
     others = []
     for k in _other_scales(result.scale):
         try:
-            others.append(_Rereading(image, px_per_mm, k))
+            others.append(_Rereading(image, px_per_mm, k, first))
         except ImageError:  # the image is too small to read at that scale
             continue
     if not others:
@@ -157,8 +160,8 @@ def _other_scales(k: float) -> list[float]:
 class _Rereading:
     """The image read again at working scale k, its centre-line ends read only where asked."""
 
-    def __init__(self, image: np.ndarray, px_per_mm: float, k: float) -> None:
-        _, _, _, graph, self.reader = _look(image, px_per_mm, k)
+    def __init__(self, image: np.ndarray, px_per_mm: float, k: float, first: EndReader | None = None) -> None:
+        _, _, _, graph, self.reader = _look(image, px_per_mm, k, first)
         self.k = k
         self.ends = graph.ends_in_order(self.reader.f)
         self.at = graph.rcs(list(self.ends)) if self.ends else np.zeros((0, 2))
@@ -206,9 +209,10 @@ def find_middle(image: np.ndarray, px_per_mm: float = 4.0) -> RidgeResult:
     return result
 
 
-def _look(image: np.ndarray, px_per_mm: float, k: float | None = None):
+def _look(image: np.ndarray, px_per_mm: float, k: float | None = None, first: EndReader | None = None):
     """The stages before ends are read: (result, clock, start time, the wire graph, its reader);
-    k: the working scale, if not the usual."""
+    k: the working scale, if not the usual; first: a reading of the image at another scale, whose
+    rim is taken (resampled), not sought again."""
     result = RidgeResult()
     clock = Clock(result.timings)
     began = clock.last
@@ -216,7 +220,10 @@ def _look(image: np.ndarray, px_per_mm: float, k: float | None = None):
     wppm = px_per_mm / k
     result.scale = k
     clock("average")
-    outside = find_rim(work, wppm)
+    if first is not None and first.outside is not None:
+        outside = _resampled(first.outside, first.k, k, work.shape[:2])
+    else:
+        outside = find_rim(work, wppm)
     clock("rim")
     con = contrast(work, wppm, outside, k)
     clock("contrast")
@@ -233,3 +240,11 @@ def _look(image: np.ndarray, px_per_mm: float, k: float | None = None):
     return result, clock, began, graph, reader
 
 
+
+
+def _resampled(mask: np.ndarray, k_from: float, k_to: float, shape: tuple[int, int]) -> np.ndarray:
+    """A mask on the working grid of scale k_from (input px per working px) on that of k_to:
+    each pixel takes the value of the one whose area holds its centre."""
+    rows = np.clip(np.floor((np.arange(shape[0]) + 0.5) * k_to / k_from).astype(int), 0, mask.shape[0] - 1)
+    cols = np.clip(np.floor((np.arange(shape[1]) + 0.5) * k_to / k_from).astype(int), 0, mask.shape[1] - 1)
+    return mask[rows[:, None], cols[None, :]]

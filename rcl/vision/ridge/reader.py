@@ -124,6 +124,7 @@ class EndReader:
         # scale's ridge strength
         self.layers = (con.f, flat, fine)
         self.shadows = False  # whether shadows round the wire being read are told from things (set by read)
+        self.outside = outside  # what lies off the tray (find_rim), if known
         self.rim = None  # how far (working px) each pixel lies from a rim or bench the frame shows, if any
         if outside is not None and outside.any():
             from scipy import ndimage
