@@ -240,8 +240,6 @@ def _look(image: np.ndarray, px_per_mm: float, k: float | None = None, first: En
     return result, clock, began, graph, reader
 
 
-
-
 def _resampled(mask: np.ndarray, k_from: float, k_to: float, shape: tuple[int, int]) -> np.ndarray:
     """A mask on the working grid of scale k_from (input px per working px) on that of k_to:
     each pixel takes the value of the one whose area holds its centre."""

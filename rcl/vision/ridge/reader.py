@@ -316,18 +316,30 @@ class EndReader:
         that stretch HIDDEN_MM out from the wire's edges (on each side), and every point on the
         axis HIDDEN_AHEAD_MM past the tip (each, not their mean: board and a rim's dark mix to
         any colour)."""
+        ahead = tip - np.arange(HIDDEN_AHEAD_MM[0], HIDDEN_AHEAD_MM[1] + 0.01, 0.5)[:, None] * self.wppm * inward
+        wire, beside, _ = self._own_colour(tip, inward, width)
+        past = float(np.linalg.norm(self._raw(ahead) - wire, axis=1).max())
+        return beside >= HIDDEN_SIDE * level and past < HIDDEN_SHARE * beside
+
+    def _raw(self, pts: np.ndarray) -> np.ndarray:
+        """The image's colours at the points, in F's units (not against the board's estimate)."""
+        return bilinear(self.con.work, pts) * self.con.unit
+
+    def _own_colour(self, tip: np.ndarray, inward: np.ndarray, width: float) -> tuple[np.ndarray, float, np.ndarray]:
+        """(the wire's colour, raw: its mean on its axis 1-4 mm in from the tip; how far that lies
+        from the board's beside that stretch, HIDDEN_MM out from the wire's edges, on the nearer
+        side; the points sampled)."""
         mm = self.wppm
         side = np.array([-inward[1], inward[0]])
         inner = tip + np.arange(1.0, 4.01, 0.5)[:, None] * mm * inward
-        ahead = tip - np.arange(HIDDEN_AHEAD_MM[0], HIDDEN_AHEAD_MM[1] + 0.01, 0.5)[:, None] * mm * inward
         off = (width / 2 + HIDDEN_MM * mm) * side
-        values = bilinear(self.con.work, np.vstack([inner, inner + off, inner - off, ahead])) * self.con.unit
+        pts = np.vstack([inner, inner + off, inner - off])
+        values = self._raw(pts)
         n = len(inner)
         wire = values[:n].mean(axis=0)
         beside = min(float(np.linalg.norm(values[n:2 * n].mean(axis=0) - wire)),
-                     float(np.linalg.norm(values[2 * n:3 * n].mean(axis=0) - wire)))
-        past = float(np.linalg.norm(values[3 * n:] - wire, axis=1).max())
-        return beside >= HIDDEN_SIDE * level and past < HIDDEN_SHARE * beside
+                     float(np.linalg.norm(values[2 * n:].mean(axis=0) - wire)))
+        return wire, beside, pts
 
     def reappears(self, tip: np.ndarray, inward: np.ndarray, width: float, level: float) -> bool:
         """Whether the wire shows again past its tip, beyond something lying across the way that
@@ -343,28 +355,21 @@ class EndReader:
         sample lies in the frame."""
         mm = self.wppm
         side = np.array([-inward[1], inward[0]])
-        inner = tip + np.arange(1.0, 4.01, 0.5)[:, None] * mm * inward
-        off = (width / 2 + HIDDEN_MM * mm) * side
         steps = np.arange(0.5, REAPPEAR_MM + REAPPEAR_RUN_MM + 0.01, 0.25) * mm
         angles = np.radians(np.arange(-REAPPEAR_DEG, REAPPEAR_DEG + 0.1, REAPPEAR_DEG / 2))
-        out = -inward
-        rays = np.cos(angles)[:, None] * out + np.sin(angles)[:, None] * side  # (A, 2)
+        rays = -np.cos(angles)[:, None] * inward + np.sin(angles)[:, None] * side  # (A, 2)
         pts = tip[None, None, :] + steps[None, :, None] * rays[:, None, :]  # (A, S, 2)
         lat = (width / 2 + REAPPEAR_SIDE_MM * mm) * np.stack([-rays[:, 1], rays[:, 0]], axis=1)  # (A, 2)
-        n = len(inner)
-        grid = np.vstack([inner, inner + off, inner - off, pts.reshape(-1, 2),
-                          (pts + lat[:, None, :]).reshape(-1, 2), (pts - lat[:, None, :]).reshape(-1, 2)])
-        inside = (grid[:, 0] >= 0) & (grid[:, 1] >= 0) & (grid[:, 0] <= self.h - 1) & (grid[:, 1] <= self.w - 1)
-        if not inside.all():
+        grid = np.vstack([pts.reshape(-1, 2), (pts + lat[:, None, :]).reshape(-1, 2),
+                          (pts - lat[:, None, :]).reshape(-1, 2)])
+        wire, beside, own = self._own_colour(tip, inward, width)
+        every = np.vstack([own, grid])
+        if every.min() < 0 or (every[:, 0] > self.h - 1).any() or (every[:, 1] > self.w - 1).any():
             return False
-        values = bilinear(self.con.work, grid) * self.con.unit
-        wire = values[:n].mean(axis=0)
-        beside = min(float(np.linalg.norm(values[n:2 * n].mean(axis=0) - wire)),
-                     float(np.linalg.norm(values[2 * n:3 * n].mean(axis=0) - wire)))
         if beside < REAPPEAR_DIFFERS * level:
             return False
         m = pts.shape[0] * pts.shape[1]
-        near = np.linalg.norm(values[3 * n:] - wire, axis=1) < REAPPEAR_SHARE * beside
+        near = np.linalg.norm(self._raw(grid) - wire, axis=1) < REAPPEAR_SHARE * beside
         on = near[:m].reshape(pts.shape[:2])
         narrow = on & ~near[m:2 * m].reshape(pts.shape[:2]) & ~near[2 * m:].reshape(pts.shape[:2])
         run = max(int(round(REAPPEAR_RUN_MM / 0.25)), 1)
@@ -373,13 +378,13 @@ class EndReader:
             gone = np.flatnonzero(~on[a])
             if not len(gone):
                 continue  # the wire's colour all the way: not this test's (hidden() or the tip's)
-            first = int(gone[0])
+            left = int(gone[0])  # where the wire's colour is first left
             good = np.concatenate([[0], np.cumsum(narrow[a])])
-            for start in range(first + 1, min(latest, len(steps) - run) + 1):
+            for start in range(left + 1, min(latest, len(steps) - run) + 1):
                 if good[start + run] - good[start] == run:
                     # something lies across the way between (bare board there: the wire ended, and
                     # another of its colour lies beyond)
-                    if median(self.sample(pts[a, first:start])) >= REAPPEAR_ACROSS * level:
+                    if median(self.sample(pts[a, left:start])) >= REAPPEAR_ACROSS * level:
                         return True
                     break
         return False
