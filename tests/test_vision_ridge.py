@@ -1617,24 +1617,31 @@ def crossed_image(cover, wire_from=20.0, cover_mm=(42.0, 45.5), ppm=4.0, size=51
     return np.clip(img, 0, 1).astype(np.float32)
 
 
-@pytest.mark.parametrize("cover, wire_from, patch_from, reappears", [
-    (0.7, 20.0, None, True),  # the wire goes on under a wire of nearly the board's grey
-    (0.7, 45.5, None, False),  # ... its true end against that wire: nothing of it past
-    (0.15, 45.5, None, False),  # its end against a wire of its own grey lying across
-    (0.7, 45.5, 41.0, False),  # past a faint wire, a broad patch of the wire's grey (a dark chair)
-    (0.8, 20.0, None, False),  # bare board between: another wire of its grey beyond its end
+@pytest.mark.parametrize("cover, wire_from, cover_mm, patch_from, reappears", [
+    (0.7, 20.0, (42.0, 45.5), None, True),  # the wire goes on under a wire of nearly the board's grey
+    (0.7, 45.5, (42.0, 45.5), None, False),  # ... its true end against that wire: nothing of it past
+    (0.15, 45.5, (42.0, 45.5), None, False),  # its end against a wire of its own grey lying across
+    (0.7, 45.5, (42.0, 45.5), 41.0, False),  # past a faint wire, a broad patch of the wire's grey (a dark chair)
+    (0.8, 20.0, (42.0, 45.5), None, False),  # bare board between: another wire of its grey beyond its end
+    (0.7, 20.0, (37.0, 45.5), None, True),  # under a wire crossing aslant: 8.5 mm of it across the way
+    (0.7, 0.0, (5.0, 8.5), None, True),  # ... and shown again only up to the frame's edge, 5 mm on
+    (0.7, 8.5, (5.0, 8.5), None, False),  # ... its true end there
 ])
-def test_ridge_sees_a_wire_show_again_past_a_faint_wire_lying_over_it(cover, wire_from, patch_from, reappears):
+def test_ridge_sees_a_wire_show_again_past_a_faint_wire_lying_over_it(cover, wire_from, cover_mm, patch_from,
+                                                                      reappears):
     """Seen on cables_segmentation's rendered images: a blue wire passing under a tan one on
     yellow stone. The tan wire hardly stands out, the blue wire's contrast ends at its edge and
     that was taken for the blue wire's end. EndReader.reappears: past the tip, after a stretch
-    of another colour, the wire's own colour again, as narrow as a wire going on."""
+    of another colour, the wire's own colour again, as narrow as a wire going on; a teal wire
+    under one crossing it aslant (8 mm of it along the teal one's way), and a pink one shown
+    again only up to the frame's edge, were taken until the test looked 10 mm on and counted
+    what lies out of the frame as not the wire's colour (it gave up there before)."""
     from rcl.vision.ridge import _look
 
-    image = crossed_image(cover, wire_from, patch_from=patch_from)
+    image = crossed_image(cover, wire_from, cover_mm=cover_mm, patch_from=patch_from)
     *_, reader = _look(image, 4.0)
     mm = reader.wppm
-    tip = np.array([64.0, 45.6]) * mm - 0.5 * (reader.k - 1) / reader.k
+    tip = np.array([64.0, cover_mm[1] + 0.1]) * mm - 0.5 * (reader.k - 1) / reader.k
     line = tip + np.arange(2.0, 12.0, 0.5)[:, None] * mm * np.array([0.0, 1.0])
     level = float(np.median(reader.sample(line)))
     assert level > 10.0
@@ -1642,9 +1649,9 @@ def test_ridge_sees_a_wire_show_again_past_a_faint_wire_lying_over_it(cover, wir
     # and the finder: no end taken at the faint wire where the wire goes on under it (without
     # this test, both ends there were taken)
     res = find_wires_ridge(image, 4.0)
-    at_cover = [s for s in res.candidates if min(abs(s.end[0] - 168.0), abs(s.end[0] - 182.0)) < 8
-                and abs(s.end[1] - 256.0) < 8]
-    why = [w for (u, v), w in res.rejected if 160.0 < u < 190.0 and abs(v - 256.0) < 8]
+    edges = 4.0 * np.array(cover_mm)
+    at_cover = [s for s in res.candidates if np.abs(s.end[0] - edges).min() < 8 and abs(s.end[1] - 256.0) < 8]
+    why = [w for (u, v), w in res.rejected if edges[0] - 8 < u < edges[1] + 8 and abs(v - 256.0) < 8]
     if reappears:
         assert not at_cover and any("shows again" in w for w in why)
     else:

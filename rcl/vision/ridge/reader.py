@@ -97,7 +97,7 @@ EXTENT_GROW = 1.15  # ... this much wider than the width read at PEAK_SHARE or m
 EXTENT_STEADY_MM = 0.6  # ... as wide to this much at each of the places it is measured,
 EXTENT_OFF = 0.2  # ... and centred on the centre line to this share of it (a wire lit from one side, its
 # dim flank over the board but under PEAK_SHARE of the lit one; a neighbour close beside it is off to one side)
-REAPPEAR_MM = 7.0  # past a tip, the wire's colour again starting within this (something across the way first),
+REAPPEAR_MM = 10.0  # past a tip, the wire's colour again starting within this (something across the way first),
 REAPPEAR_RUN_MM = 2.0  # ... for this long, on a ray
 REAPPEAR_DEG = 20.0  # ... straight on or turned up to this
 REAPPEAR_SHARE = 0.4  # ... nearer the wire's colour than this share of the board's beside the wire
@@ -321,6 +321,10 @@ class EndReader:
         past = float(np.linalg.norm(self._raw(ahead) - wire, axis=1).max())
         return beside >= HIDDEN_SIDE * level and past < HIDDEN_SHARE * beside
 
+    def _in_frame(self, pts: np.ndarray) -> np.ndarray:
+        """Which points lie in the frame (where they can be sampled as they are)."""
+        return (pts >= 0).all(axis=1) & (pts[:, 0] <= self.h - 1) & (pts[:, 1] <= self.w - 1)
+
     def _raw(self, pts: np.ndarray) -> np.ndarray:
         """The image's colours at the points, in F's units (not against the board's estimate)."""
         return bilinear(self.con.work, pts) * self.con.unit
@@ -363,13 +367,11 @@ class EndReader:
         grid = np.vstack([pts.reshape(-1, 2), (pts + lat[:, None, :]).reshape(-1, 2),
                           (pts - lat[:, None, :]).reshape(-1, 2)])
         wire, beside, own = self._own_colour(tip, inward, width)
-        every = np.vstack([own, grid])
-        if every.min() < 0 or (every[:, 0] > self.h - 1).any() or (every[:, 1] > self.w - 1).any():
-            return False
-        if beside < REAPPEAR_DIFFERS * level:
+        if not self._in_frame(own).all() or beside < REAPPEAR_DIFFERS * level:
             return False
         m = pts.shape[0] * pts.shape[1]
-        near = np.linalg.norm(self._raw(grid) - wire, axis=1) < REAPPEAR_SHARE * beside
+        # out of the frame: not the wire's colour on a ray, and nothing of it beside one
+        near = (np.linalg.norm(self._raw(grid) - wire, axis=1) < REAPPEAR_SHARE * beside) & self._in_frame(grid)
         on = near[:m].reshape(pts.shape[:2])
         narrow = on & ~near[m:2 * m].reshape(pts.shape[:2]) & ~near[2 * m:].reshape(pts.shape[:2])
         run = max(int(round(REAPPEAR_RUN_MM / 0.25)), 1)
