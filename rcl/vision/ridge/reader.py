@@ -535,7 +535,7 @@ class EndReader:
         n = max(round(CONDUCTOR_WINDOW_MM * mm * 2), 1)  # steps of 0.5 px in the window
         ahead = np.arange(0.5, TIP_MAX_MM * mm, 0.5)
         at = end + ahead[:, None] * out
-        inside = (at[:, 0] >= 0) & (at[:, 1] >= 0) & (at[:, 0] <= self.h - 1) & (at[:, 1] <= self.w - 1)
+        inside = self._in_frame(at)
         framed = int(np.argmin(inside)) if not inside.all() else len(ahead)
         # board in shadow beyond the tip is no conductor, unless a sharp ridge runs on it: where the
         # wire casts shadows that can be told from it, and past an end lighter than the board (what
