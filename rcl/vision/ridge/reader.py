@@ -355,8 +355,11 @@ class EndReader:
         what lies between stands out of the board, if faintly (REAPPEAR_ACROSS of the wire's
         contrast, at the median: bare board between is the wire's end, with another wire of its
         colour beyond). Colours compared raw, in F's units, as in hidden(); asked only where the
-        wire differs from the board beside it by REAPPEAR_DIFFERS of its contrast, and where every
-        sample lies in the frame."""
+        wire differs from the board beside it by REAPPEAR_DIFFERS of its contrast. Out of the
+        frame nothing is the wire's colour: a ray may still see it again before it leaves."""
+        wire, beside, own = self._own_colour(tip, inward, width)
+        if not self._in_frame(own).all() or beside < REAPPEAR_DIFFERS * level:
+            return False
         mm = self.wppm
         side = np.array([-inward[1], inward[0]])
         steps = np.arange(0.5, REAPPEAR_MM + REAPPEAR_RUN_MM + 0.01, 0.25) * mm
@@ -366,9 +369,6 @@ class EndReader:
         lat = (width / 2 + REAPPEAR_SIDE_MM * mm) * np.stack([-rays[:, 1], rays[:, 0]], axis=1)  # (A, 2)
         grid = np.vstack([pts.reshape(-1, 2), (pts + lat[:, None, :]).reshape(-1, 2),
                           (pts - lat[:, None, :]).reshape(-1, 2)])
-        wire, beside, own = self._own_colour(tip, inward, width)
-        if not self._in_frame(own).all() or beside < REAPPEAR_DIFFERS * level:
-            return False
         m = pts.shape[0] * pts.shape[1]
         # out of the frame: not the wire's colour on a ray, and nothing of it beside one
         near = (np.linalg.norm(self._raw(grid) - wire, axis=1) < REAPPEAR_SHARE * beside) & self._in_frame(grid)
