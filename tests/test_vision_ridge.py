@@ -1566,6 +1566,42 @@ def test_ridge_refuses_an_end_whose_conductor_runs_off_the_frame(ppm, width_mm, 
     assert not [e for e in ends if e[1] < 20.0], (ends, res.rejected)
 
 
+def one_wire_in_its_own_shadow(start_mm, angle_deg, kind, tip_mm, ppm, seed, size=512):
+    """A black wire 2.8 mm thick from start_mm (x, y) on into the frame at angle_deg, its end at
+    start_mm `kind` (flat, rounded, or stripped to tip_mm of metal), on a light grey board in a
+    grey image, lit from beyond its far end so that its soft shadow falls on past the end (tray
+    205901's kind: the shadow darkens the board by 0.23, the image is JPEG at 59)."""
+    from rcl.vision.scenes import Scene, WireLook, finish, paint
+    d = np.array([math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg))])
+    black, board = (0.12, 0.12, 0.12), (0.81, 0.81, 0.81)
+    wire = Wire(np.asarray(start_mm, float) + np.arange(0, 150.0, 0.5)[:, None] * d, 2.8, 0, black, tip_mm)
+    lamp = (0.65 * d[0], 0.65 * d[1], 0.58)
+    scene = Scene(size, size, ppm, False, 1, 1, ("straight",), (2.8, 2.8), ("black",), (kind,), "plain", board, 0.06,
+                  (0.1, 3.3, 0.12), lamp, 0.23, 0.32, 0.0, 0.035, 59, False, 0, 0.0, False)
+    looks = [WireLook("black", black, (kind, "flat"), (tip_mm, 0.0), 0.5)]
+    under = np.empty((size, size, 3), np.float32)
+    under[:] = board
+    return finish(scene, paint(scene, [wire], looks, under), np.random.default_rng(seed))
+
+
+@pytest.mark.parametrize("ppm,kind,tip_mm,angle,seed", [
+    (7.23, "flat", 0.0, 120.0, 0), (7.23, "rounded", 0.0, 250.0, 0), (7.23, "tinned", 3.0, 250.0, 0),
+    (4.3, "tinned", 3.0, 250.0, 1), (7.23, "copper", 3.0, 250.0, 0), (7.23, "ferrule", 3.0, 120.0, 0)])
+def test_ridge_does_not_follow_a_wires_soft_shadow_past_its_end_but_follows_its_metal(ppm, kind, tip_mm, angle, seed):
+    """The shadow a wire casts past its end, lit from along it, is a short faint stretch narrower
+    than the wire where its end is rounded or its metal thin, and was followed as a conductor: the
+    tip put 2.5-2.7 mm past the end (the first five cases, each on the commit before). Its edges
+    are much softer than the insulation's, a conductor's or a ferrule's as sharp; the metal is
+    still followed to its end (a 3 mm ferrule and the tinned and copper tips, else 3 mm short)."""
+    start = np.array([45.0, 20.0]) if angle < 180.0 else np.array([40.0, 55.0])
+    image = one_wire_in_its_own_shadow(start, angle, kind, tip_mm, ppm, seed)
+    res = find_wires_ridge(image, ppm)
+    into = np.array([math.cos(math.radians(angle)), math.sin(math.radians(angle))])
+    past = [float((start - np.array(s.end) / ppm) @ into) for s in res.candidates
+            if np.linalg.norm(np.array(s.end) / ppm - start) < 8.0]
+    assert len(past) == 1 and -1.0 < past[0] < 1.0, (past, res.rejected)
+
+
 def test_ridge_ranks_an_end_with_another_centre_line_near_its_span_below_a_lone_one(monkeypatch):
     # two black wires alike, far apart, each with a free end; beside the first 6 mm of the first a
     # thin grey wire runs, its centre line 2.15 mm from the first wire's edge (clear of the free test's

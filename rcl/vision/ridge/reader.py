@@ -49,6 +49,8 @@ FLANK_SHARE = 0.5  # its flanks stand out less than this share of the insulation
 FLANK_OTHER = (0.3, 0.8)  # middle's contrast), or less than [1] of it where its contrast is [0] off the insulation's;
 FLANK_MIN = 0.3  # asked only where the insulation's stand out this share or more (else narrow is not told from wide)
 CONDUCTOR_STEADY = 0.7  # ... and past that, to the tip, the conductor holds this share of its contrast there
+SOFT_REACH_MM = 3.5  # ... and one that reaches no further past the insulation than an end's soft shadow or blur
+SOFT_EDGES = 1.3  # ... has edges no softer than this times the insulation's (softness()): else it is that shadow
 CONDUCTOR_DOUBT = 0.96  # an end whose tip lies on such a conductor ranks as this much less roomy (its tip
 # is the less sure: of the free ends read on trays 3000-5399, 8 % of such tips lay over 1.5 mm off, 2 % of others)
 TIP_START_MM = 10.0  # the search for the tip starts this far in along the centre line: on the insulation
@@ -525,7 +527,9 @@ class EndReader:
         of three samples across it), averaged over CONDUCTOR_WINDOW_MM, stands CONDUCTOR_CONTRAST
         above the board beside it, narrower than the wire; its tip is where that contrast falls
         to TIP_SHARE of its own, and past that tip no thin line may go on (line_goes_on: a line
-        of the board's print). The tip's scan may already have followed part of it (a bright
+        of the board's print), and one that reaches no further past end than SOFT_REACH_MM must
+        have edges no softer than SOFT_EDGES times the insulation's (else it is the end's shadow,
+        whose edges are its penumbra's). The tip's scan may already have followed part of it (a bright
         conductor stands out as the insulation does, but not all the way): the narrow stretch
         just inside end counts towards its length and its contrast. One that runs on to the
         frame's border ends there."""
@@ -593,11 +597,30 @@ class EndReader:
             reach = float(steps[i - 1] + np.clip((a - edge) / max(a - b, 1e-6), 0, 1) * 0.5)
         if followed and median(mean[z:i]) < CONDUCTOR_STEADY * median(mean[s0:z]):
             return end  # it does not hold its contrast past end: the end's blur or shadow
+        if reach <= SOFT_REACH_MM * mm:  # metal is as sharp as the insulation; a shadow is soft
+            stretch = end + np.linspace(0.3, 0.8, 5)[:, None] * reach * out
+            inside = end - np.linspace(1.0, 3.0, 5)[:, None] * mm * out
+            if self.softness(stretch, out, width) > SOFT_EDGES * self.softness(inside, out, width):
+                return end
         if i >= run == len(steps) and framed < len(ahead):
             return end + out * reach  # on to the frame's border
         if self.line_goes_on(end + out * reach, out, width):
             return end  # a line of the board's print, not a conductor
         return end + out * reach
+
+    def softness(self, pts: np.ndarray, out: np.ndarray, width: float) -> float:
+        """How soft the edges of what lies across the axis `out` are at the points `pts` (working
+        px; NaN if nothing stands out there): the median over the points of the contrast's rise
+        across (its peak over the board a whole width and 1 mm out from the axis) divided by its
+        steepest slope, about the width of a blurred step. A shadow's edges are as soft as its
+        penumbra; a conductor's or a ferrule's as sharp as the insulation's (the same blur)."""
+        side = np.array([-out[1], out[0]])
+        lateral = np.arange(-(width + self.wppm), width + self.wppm + 0.01, 0.25)
+        f = self.sample((pts[:, None, :] + lateral[None, :, None] * side).reshape(-1, 2)).reshape(len(pts), -1)
+        rise = f.max(axis=1) - np.median(np.hstack([f[:, :4], f[:, -4:]]), axis=1)
+        slope = np.abs(np.diff(f, axis=1)).max(axis=1) / 0.25
+        seen = (rise > 0.5) & (slope > 0)
+        return float(median(rise[seen] / slope[seen])) if seen.any() else math.nan
 
     def _profile(self, end: np.ndarray, out: np.ndarray, width: float, steps: np.ndarray,
                  shaded: bool) -> tuple[np.ndarray, np.ndarray]:
