@@ -957,7 +957,7 @@ class EndReader:
         """around() at the points (or F, if not shadows); nothing where they fall off the image or
         within RIM_EDGE_MM of a rim or the bench round the tray (which is neither board nor a thing
         there)."""
-        inside = (pts[:, 0] >= 0) & (pts[:, 1] >= 0) & (pts[:, 0] <= self.h - 1) & (pts[:, 1] <= self.w - 1)
+        inside = self._in_frame(pts)
         if self.rim is not None:
             inside &= ~self.off_tray(pts, RIM_EDGE_MM * self.wppm)
         return np.where(inside, self.around(pts) if shadows else self.sample(pts), 0.0)
