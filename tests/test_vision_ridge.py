@@ -1602,6 +1602,35 @@ def test_ridge_does_not_follow_a_wires_soft_shadow_past_its_end_but_follows_its_
     assert len(past) == 1 and -1.0 < past[0] < 1.0, (past, res.rejected)
 
 
+@pytest.mark.parametrize("kind,angle,start,seed", [("rounded", 120.0, (45.0, 20.0), 0), ("rounded", 250.0, (40.0, 55.0), 1),
+                                                   ("flat", 45.0, (30.0, 30.0), 0), ("flat", 320.0, (25.0, 50.0), 1)])
+def test_ridge_does_not_put_a_tip_in_the_shadow_the_scan_ran_on_into(kind, angle, start, seed):
+    """A grey wire 2.34 mm thick on a grey board of nearly its colour (tray 205938's kind), lit
+    from along it so that its soft shadow falls past its end: past the end the contrast steps down
+    to about half the wire's and holds 1-2 mm, more than half the line's median contrast, so the
+    scan for the tip ran on to the shadow's end and the pick was 2.1-2.5 mm past the wire's (each
+    case, on the commit before). The stretch's edges are much softer than the insulation's, so the
+    tip is taken back to the step, and the end is taken within 0.5 mm of the true one: the fan past
+    the tip counts that shadow as board (else it saw something there, or a contrast going on, and
+    refused the end). Taken back to the step's foot (SHADOW_FOOT), not half way down it: there a
+    rounded cap, which tapers before its tip, was 0.34 mm short in the first case."""
+    from rcl.vision.scenes import Scene, WireLook, finish, paint
+    ppm, start = 7.03, np.array(start)
+    d = np.array([math.cos(math.radians(angle)), math.sin(math.radians(angle))])
+    colour, board = (0.44, 0.53, 0.53), (0.63, 0.66, 0.64)
+    wire = Wire(start + np.arange(0, 150.0, 0.5)[:, None] * d, 2.34, 0, colour, 0.0)
+    scene = Scene(512, 512, ppm, True, 1, 1, ("straight",), (2.34, 2.34), ("grey",), (kind,), "plain", board, 0.05,
+                  (0.1, 3.3, 0.12), (0.76 * d[0], 0.76 * d[1], 0.64), 0.22, 0.42, 0.0, 0.011, 56, False, 0, 0.0, False)
+    under = np.empty((512, 512, 3), np.float32)
+    under[:] = board
+    image = finish(scene, paint(scene, [wire], [WireLook("grey", colour, (kind, "flat"), (0.0, 0.0), 0.44)], under),
+                   np.random.default_rng(seed))
+    res = find_wires_ridge(image, ppm)
+    past = [float((start - np.array(s.end) / ppm) @ d) for s in res.candidates
+            if np.linalg.norm(np.array(s.end) / ppm - start) < 8.0]
+    assert len(past) == 1 and -0.3 < past[0] < 0.5, (past, res.rejected)
+
+
 def test_ridge_ranks_an_end_with_another_centre_line_near_its_span_below_a_lone_one(monkeypatch):
     # two black wires alike, far apart, each with a free end; beside the first 6 mm of the first a
     # thin grey wire runs, its centre line 2.15 mm from the first wire's edge (clear of the free test's

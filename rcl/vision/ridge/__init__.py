@@ -33,7 +33,8 @@ only when what lies around it can be seen to be bare board.
    contrast past the ridge's end (a rounded cap, a ferrule, stripped copper) to
    where the board begins (a faint "conductor" that runs on past its own tip as a
    thin line is the board's print, and not followed, and so is one that reaches no further than
-   an end's shadow with edges much softer than the insulation's: that shadow; the narrow stretch of a bright
+   an end's shadow with edges much softer than the insulation's: that shadow, to which a scan that
+   ran on into it is taken back, and which the fan past the tip counts as board; the narrow stretch of a bright
    conductor the first scan took counts towards it, and its contrast is the
    conductor's; one that runs on to the frame's border ends there); an end at the frame border,
    or whose contrast runs on (under another wire) or fades but goes on past its tip,

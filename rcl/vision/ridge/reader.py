@@ -50,6 +50,11 @@ FLANK_OTHER = (0.3, 0.8)  # middle's contrast), or less than [1] of it where its
 FLANK_MIN = 0.3  # asked only where the insulation's stand out this share or more (else narrow is not told from wide)
 CONDUCTOR_STEADY = 0.7  # ... and past that, to the tip, the conductor holds this share of its contrast there
 SOFT_REACH_MM = 3.5  # ... and one that reaches no further past the insulation than an end's soft shadow or blur
+SHADOW_STEP = 0.7  # the scan for the tip run on into the end's shadow: past a step down to this share of
+# the wire's contrast, a stretch reaching 0.8 mm to SOFT_REACH_MM on with edges as soft as SOFT_EDGES says
+SHADOW_FOOT = 0.3  # ... to where the contrast is this share of the step above the stretch's (a rounded cap's
+# taper starts before its tip: half way put such tips 0.25-0.65 mm short)
+SHADOW_DIM = 1.25  # ... and past a tip so taken back, the fan counts that shadow's contrast (so much of it) as board
 SOFT_EDGES = 1.3  # ... has edges no softer than this times the insulation's (softness()): else it is that shadow
 CONDUCTOR_DOUBT = 0.96  # an end whose tip lies on such a conductor ranks as this much less roomy (its tip
 # is the less sure: of the free ends read on trays 3000-5399, 8 % of such tips lay over 1.5 mm off, 2 % of others)
@@ -224,6 +229,7 @@ class EndReader:
         border = FRAME_MARGIN_MM * mm
         arc = _arc(line)
         self.shadows = self.casts_shadow(line, width)
+        self.shadow_past = None  # (how far past the tip, its contrast): the end's soft shadow, where seen
         # the tip: from inside the wire, follow the contrast outward along the centre line and on
         # past the ridge's end (which smoothing may carry beyond the wire) to where it drops
         out = -inward
@@ -247,6 +253,8 @@ class EndReader:
             conductor = (along >= BOARD_FLOOR) & (thin >= CONDUCTOR_RIDGE)
             edge = max(BOARD_FLOOR, TIP_SHARE * level)
             tip_s = _drop(np.where(conductor & (along < edge), edge, along), scan_s, edge)
+            if not isinstance(tip_s, str):
+                tip_s = self.short_of_shadow(scan, scan_s, along, tip_s, out, width)
         if isinstance(tip_s, str):
             return tip_s
         tip = np.array([np.interp(tip_s, es, ext[:, 0]), np.interp(tip_s, es, ext[:, 1])])
@@ -608,6 +616,41 @@ class EndReader:
             return end  # a line of the board's print, not a conductor
         return end + out * reach
 
+    def short_of_shadow(self, scan: np.ndarray, scan_s: np.ndarray, along: np.ndarray, tip_s: float,
+                        out: np.ndarray, width: float) -> float:
+        """The tip's arc position (as tip_s, which the scan for it found: `along` sampled at the
+        points `scan`, arc positions scan_s, outward) taken back to where the wire's contrast
+        steps down, if the scan ran on into the end's soft shadow: a stretch of SHADOW_STEP of the
+        wire's contrast (4-7 mm inside) or less, 0.8 mm to SOFT_REACH_MM long, whose edges are over
+        SOFT_EDGES times as soft as the insulation's. The tip is then where the contrast falls
+        half way from the wire's to the stretch's."""
+        mm = self.wppm
+        body = (scan_s >= tip_s + 4.0 * mm) & (scan_s <= tip_s + 7.0 * mm)
+        if np.count_nonzero(body) < 3:
+            return tip_s
+        wire = float(median(along[body]))
+        start = int(np.flatnonzero(body)[-1])  # outward from there
+        low = np.flatnonzero(along[start:] < SHADOW_STEP * wire)
+        if not low.size:
+            return tip_s
+        s1 = float(scan_s[start + int(low[0])])
+        if not 0.8 * mm <= s1 - tip_s <= SOFT_REACH_MM * mm:
+            return tip_s
+        past = (scan_s <= s1) & (scan_s >= tip_s)
+        level = float(median(along[past]))
+        stretch = scan[(scan_s <= s1 - 0.2 * (s1 - tip_s)) & (scan_s >= s1 - 0.7 * (s1 - tip_s))]
+        inside = scan[(scan_s >= s1 + 1.0 * mm) & (scan_s <= s1 + 3.0 * mm)]
+        if len(stretch) < 2 or len(inside) < 2 or \
+                not self.softness(stretch, out, width) > SOFT_EDGES * self.softness(inside, out, width):
+            return tip_s
+        self.shadow_past = (s1 - tip_s, level)
+        half = level + SHADOW_FOOT * (wire - level)
+        i = start + int(np.flatnonzero(along[start:] < half)[0]) if (along[start:] < half).any() else start
+        if i == start:
+            return s1
+        a, b = along[i - 1], along[i]
+        return float(scan_s[i - 1] + np.clip((a - half) / max(a - b, 1e-6), 0, 1) * (scan_s[i] - scan_s[i - 1]))
+
     def softness(self, pts: np.ndarray, out: np.ndarray, width: float) -> float:
         """How soft the edges of what lies across the axis `out` are at the points `pts` (working
         px; NaN if nothing stands out there): the median over the points of the contrast's rise
@@ -777,6 +820,11 @@ class EndReader:
         seen = np.flatnonzero(values[:nb] >= min(board, low))
         if len(seen):
             values[seen[_on_itself(band[seen], seen // (nb // len(line)), line, half, 2.0 * offs[-1])]] = 0.0
+        if self.shadow_past is not None:  # the end's own soft shadow past its tip, as short_of_shadow saw it,
+            # is board (no more than SHADOW_DIM of its contrast, out to 1 mm past where it was seen)
+            reach, dim = self.shadow_past
+            fan_at = values[nb:nb + nc]
+            fan_at[(np.linalg.norm(cap - tip, axis=1) <= reach + mm) & (fan_at <= SHADOW_DIM * dim)] = 0.0
         hit = values >= board
         # on past the tip, straight or bending a little, even a faint contrast that goes on is the
         # wire going on into light or a colour that hides it, not its end; but not one that fills
