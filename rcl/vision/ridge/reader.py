@@ -53,7 +53,7 @@ SOFT_REACH_MM = 3.5  # ... and one that reaches no further past the insulation t
 SHADOW_STEP = 0.7  # the scan for the tip run on into the end's shadow: past a step down to this share of
 # the wire's contrast, a stretch reaching 0.8 mm to SOFT_REACH_MM on with edges as soft as SOFT_EDGES says
 SHADOW_FOOT = 0.3  # ... to where the contrast is this share of the step above the stretch's (a rounded cap's
-# taper starts before its tip: half way put such tips 0.25-0.65 mm short)
+# taper starts before its tip: half way down put such tips 0.23-0.47 mm short)
 SHADOW_DIM = 1.25  # ... and past a tip so taken back, the fan counts that shadow's contrast (so much of it) as board
 SOFT_EDGES = 1.3  # ... has edges no softer than this times the insulation's (softness()): else it is that shadow
 CONDUCTOR_DOUBT = 0.96  # an end whose tip lies on such a conductor ranks as this much less roomy (its tip
@@ -622,8 +622,8 @@ class EndReader:
         points `scan`, arc positions scan_s, outward) taken back to where the wire's contrast
         steps down, if the scan ran on into the end's soft shadow: a stretch of SHADOW_STEP of the
         wire's contrast (4-7 mm inside) or less, 0.8 mm to SOFT_REACH_MM long, whose edges are over
-        SOFT_EDGES times as soft as the insulation's. The tip is then where the contrast falls
-        half way from the wire's to the stretch's."""
+        SOFT_EDGES times as soft as the insulation's. The tip is then where the contrast stands
+        SHADOW_FOOT of the step above the stretch's (near the step's foot)."""
         mm = self.wppm
         body = (scan_s >= tip_s + 4.0 * mm) & (scan_s <= tip_s + 7.0 * mm)
         if np.count_nonzero(body) < 3:
@@ -644,12 +644,12 @@ class EndReader:
                 not self.softness(stretch, out, width) > SOFT_EDGES * self.softness(inside, out, width):
             return tip_s
         self.shadow_past = (s1 - tip_s, level)
-        half = level + SHADOW_FOOT * (wire - level)
-        i = start + int(np.flatnonzero(along[start:] < half)[0]) if (along[start:] < half).any() else start
+        foot = level + SHADOW_FOOT * (wire - level)
+        i = start + int(np.flatnonzero(along[start:] < foot)[0]) if (along[start:] < foot).any() else start
         if i == start:
             return s1
         a, b = along[i - 1], along[i]
-        return float(scan_s[i - 1] + np.clip((a - half) / max(a - b, 1e-6), 0, 1) * (scan_s[i] - scan_s[i - 1]))
+        return float(scan_s[i - 1] + np.clip((a - foot) / max(a - b, 1e-6), 0, 1) * (scan_s[i] - scan_s[i - 1]))
 
     def softness(self, pts: np.ndarray, out: np.ndarray, width: float) -> float:
         """How soft the edges of what lies across the axis `out` are at the points `pts` (working
