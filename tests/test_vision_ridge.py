@@ -1631,6 +1631,38 @@ def test_ridge_does_not_put_a_tip_in_the_shadow_the_scan_ran_on_into(kind, angle
     assert len(past) == 1 and -0.3 < past[0] < 0.5, (past, res.rejected)
 
 
+@pytest.mark.parametrize("angle", [20.0, 100.0, 200.0])
+def test_ridge_refuses_an_end_whose_line_changes_colour_past_the_grasp_point(angle):
+    """A grey wire on a light board, and a black wire lying on its line from 17.5 mm from the
+    grey wire's end on (tray 205574's kind): the black wire is within 4 mm of the grasp point 15
+    mm along, so there is no room for the fingers, but it lies on the grey wire's own line, and
+    the disc round the grasp point clears it as the wire itself (the commit before took the grey
+    end at each angle). Its colour is far from every colour of the grey wire nearer its end, so
+    the end is refused. Alone, the same grey wire's end is taken."""
+    from rcl.vision.scenes import Scene, WireLook, finish, paint
+
+    ppm, start = 6.0, np.array([30.0, 30.0])
+    d = np.array([math.cos(math.radians(angle)), math.sin(math.radians(angle))])
+    board, grey, black = (0.7, 0.7, 0.68), (0.45, 0.45, 0.45), (0.08, 0.08, 0.08)
+    scene = Scene(512, 512, ppm, True, 2, 2, ("straight",), (2.0, 2.0), ("grey",), ("flat",), "plain", board, 0.03,
+                  (0.1, 3.3, 0.12), (0.3, 0.2, 0.93), 0.22, 0.42, 0.0, 0.011, 56, False, 0, 0.0, False)
+    for black_from in (None, 17.5):
+        wires = [Wire(start + np.arange(0, 70.0, 0.5)[:, None] * d, 2.0, 0, grey, 0.0)]
+        looks = [WireLook("grey", grey, ("flat", "flat"), (0.0, 0.0), 0.3)]
+        if black_from is not None:
+            wires.append(Wire(start + np.arange(black_from, black_from + 40.0, 0.5)[:, None] * d, 2.0, 1, black, 0.0))
+            looks.append(WireLook("black", black, ("flat", "flat"), (0.0, 0.0), 0.3))
+        under = np.empty((512, 512, 3), np.float32)
+        under[:] = board
+        image = finish(scene, paint(scene, wires, looks, under), np.random.default_rng(0))
+        res = find_wires_ridge(image, ppm)
+        taken = [s for s in res.candidates if np.linalg.norm(np.array(s.end) / ppm - start) < 3.0]
+        assert len(taken) == (1 if black_from is None else 0), (black_from, res.rejected)
+        if black_from is not None:
+            assert any("changes colour" in why for (u, v), why in res.rejected
+                       if np.hypot(u / ppm - start[0], v / ppm - start[1]) < 4.0), res.rejected
+
+
 def test_ridge_ranks_an_end_with_another_centre_line_near_its_span_below_a_lone_one(monkeypatch):
     # two black wires alike, far apart, each with a free end; beside the first 6 mm of the first a
     # thin grey wire runs, its centre line 2.15 mm from the first wire's edge (clear of the free test's

@@ -50,7 +50,9 @@ only when what lies around it can be seen to be bare board.
    a speck of the board's texture (no more than SPECK_MM across) is no obstacle. An end refused
    for something beside it or in that disc is read again as one edge of a wire whose
    body does not stand out (a white wire on a white board: its two shaded sides), if
-   another line runs beside it at a steady distance and the two end together.
+   another line runs beside it at a steady distance and the two end together. The wire's own
+   line in the fingers' room past the grasp point must keep the wire's colours (those 7-14 mm
+   from its tip): another wire lying along that line is cleared from the disc as the wire itself.
 7. The sighting: the tip; the direction into the wire at the tip, the chord of the
    centre line's TIP_FIT_MM nearest it (the tip put on that axis); the
    grasp point GRASP_MM along the centre line, centred across the wire; the tangent

@@ -111,6 +111,9 @@ REAPPEAR_SHARE = 0.4  # ... nearer the wire's colour than this share of the boar
 REAPPEAR_SIDE_MM = 1.0  # ... and narrow: not so this far out from its edges on either side
 REAPPEAR_ACROSS = 0.1  # ... where what lies between stands out of the board by this share of the wire's contrast
 REAPPEAR_DIFFERS = 0.3  # asked only where the wire differs from the board beside it by this share of its contrast
+COLOUR_CHANGE = 0.55  # along the line 1 mm past the grasp point to the fingers' room's edge, a colour this far (a
+# share of the wire's contrast) from every colour of the wire 7-14 mm from its tip, over COLOUR_RUN_MM: another
+COLOUR_RUN_MM = 1.0  # wire lies along its line there (a black wire's end in line with a grey wire: tray 205574)
 BESIDE = "another wire or something lies beside it"
 NO_ROOM = "no room for the fingers at the grasp point"
 
@@ -306,6 +309,8 @@ class EndReader:
         why = self.crowded(span, tip, out, width, board, level)
         if why:
             return why
+        if self.changes_colour(full, width, level):
+            return "its line changes colour past the grasp point: another wire lies along it there"
         clutter = self.clutter(span, tip, out, width, board)
         if not gap:
             grasp = self.centred(grasp, tangent, width)
@@ -316,6 +321,32 @@ class EndReader:
         if np.any(tip != insulation):  # a tip found along a faint conductor is the less sure
             score *= CONDUCTOR_DOUBT
         return self.sighting(on_axis, inward, grasp, tangent, score)
+
+    def changes_colour(self, full: np.ndarray, width: float, level: float) -> bool:
+        """Whether the centre line `full` (from the tip), in the fingers' room past the grasp
+        point (1 mm past it to CLEARANCE_MM), has a colour COLOUR_CHANGE of the wire's contrast
+        from every colour it has 7-14 mm from the tip (where a ferrule or copper has ended, and a
+        striped wire shows its stripes), over COLOUR_RUN_MM: something else lies along its line,
+        which the disc round the grasp point clears as the wire itself. Each colour the median
+        of three points across the middle of the wire (not its flanks or highlight)."""
+        mm = self.wppm
+        line = _resample(full, 0.25 * mm)
+        s = _arc(line)
+        pick = ((s >= (GRASP_MM - 8.0) * mm) & (s <= (GRASP_MM - 1.0) * mm)) | \
+            ((s >= (GRASP_MM + 1.0) * mm) & (s <= (GRASP_MM + CLEARANCE_MM) * mm))
+        line, s = line[pick], s[pick]
+        if len(line) < 8:
+            return False
+        across = np.array([-0.2, 0.0, 0.2]) * width
+        pts = (line[:, None, :] + across[None, :, None] * _normals(line)[:, None, :]).reshape(-1, 2)
+        seen = self._in_frame(pts).reshape(len(line), 3).all(axis=1)
+        colour = np.median(self._raw(pts).reshape(len(line), 3, -1), axis=1)
+        own = seen & (s < GRASP_MM * mm)
+        past = seen & (s > GRASP_MM * mm)
+        if np.count_nonzero(own) < 4 or not past.any():
+            return False
+        far = np.sqrt(((colour[past][:, None, :] - colour[own][None, :, :]) ** 2).sum(axis=2)).min(axis=1)
+        return bool(np.count_nonzero(far > COLOUR_CHANGE * level) >= COLOUR_RUN_MM / 0.25)
 
     def hidden(self, tip: np.ndarray, inward: np.ndarray, width: float, level: float) -> bool:
         """Whether past the tip the image has the wire's own colour where the board beside the wire
