@@ -639,7 +639,7 @@ class EndReader:
         if reach <= SOFT_REACH_MM * mm:  # metal is as sharp as the insulation; a shadow is soft
             stretch = end + np.linspace(0.3, 0.8, 5)[:, None] * reach * out
             inside = end - np.linspace(1.0, 3.0, 5)[:, None] * mm * out
-            if self.softness(stretch, out, width) > SOFT_EDGES * self.softness(inside, out, width):
+            if self.shadow_edges(stretch, inside, out, width):
                 return end
         if i >= run == len(steps) and framed < len(ahead):
             return end + out * reach  # on to the frame's border
@@ -672,7 +672,7 @@ class EndReader:
         stretch = scan[(scan_s <= s1 - 0.2 * (s1 - tip_s)) & (scan_s >= s1 - 0.7 * (s1 - tip_s))]
         inside = scan[(scan_s >= s1 + 1.0 * mm) & (scan_s <= s1 + 3.0 * mm)]
         if len(stretch) < 2 or len(inside) < 2 or \
-                not self.softness(stretch, out, width) > SOFT_EDGES * self.softness(inside, out, width):
+                not self.shadow_edges(stretch, inside, out, width):
             return tip_s
         self.shadow_past = (s1 - tip_s, level)
         foot = level + SHADOW_FOOT * (wire - level)
@@ -681,6 +681,11 @@ class EndReader:
             return s1
         a, b = along[i - 1], along[i]
         return float(scan_s[i - 1] + np.clip((a - foot) / max(a - b, 1e-6), 0, 1) * (scan_s[i] - scan_s[i - 1]))
+
+    def shadow_edges(self, stretch: np.ndarray, inside: np.ndarray, out: np.ndarray, width: float) -> bool:
+        """Whether what lies at the points `stretch` has edges over SOFT_EDGES times as soft as the
+        insulation's at the points `inside` (softness()): an end's shadow, not metal."""
+        return bool(self.softness(stretch, out, width) > SOFT_EDGES * self.softness(inside, out, width))
 
     def softness(self, pts: np.ndarray, out: np.ndarray, width: float) -> float:
         """How soft the edges of what lies across the axis `out` are at the points `pts` (working
