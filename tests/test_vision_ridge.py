@@ -386,6 +386,16 @@ def test_a_rim_is_told_from_wires_and_grid_lines_along_the_frame():
         assert not find_rim(image.astype(np.float32), 4.0).any()
 
 
+def test_a_rim_wider_than_25_mm_is_found_on_a_wide_frame():
+    """A camera that sees 400 mm of the tray at 2.5 px/mm may see a rim or bench 32 mm wide: it
+    is looked for over a tenth of the frame, not only 25 mm (trays 231254 and 230097: missed)."""
+    rng = np.random.default_rng(7)
+    image = 0.6 + rng.normal(0, 0.01, (600, 1000, 3))
+    image[:, :80] = (0.3, 0.35, 0.3)  # 80 px: 32 mm at 2.5 px/mm
+    out = find_rim(image.astype(np.float32), 2.5)
+    assert out[:, :79].all() and not out[:, 84:].any()
+
+
 @pytest.mark.parametrize("gap_mm, free", [(5.0, True), (2.6, True), (1.5, False)])
 def test_ridge_takes_an_end_near_a_rim_and_refuses_one_at_it(gap_mm, free):
     """The tip of a 2 mm wire 2.6 mm from a rim is 1.6 mm clear of it: free, as the ground truth

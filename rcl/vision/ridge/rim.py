@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-RIM_SCAN_MM = 25.0  # a tray's rim (or the bench round the tray) is looked for this far in from each side
+RIM_SCAN_MM = 25.0  # a tray's rim (or the bench round the tray) is looked for this far in from each side,
+RIM_SCAN_SHARE = 0.1  # ... or this share of the frame across it where that is more (a fifth at most)
 RIM_MIN_MM = 1.5  # ... at least this wide
 RIM_SEGMENT_MM = 8.0  # ... in segments of the side this long: each its own profile (a median across it)
 RIM_BOARD_MM = 3.0  # ... against this much board next to it
@@ -27,7 +28,7 @@ def find_rim(work: np.ndarray, wppm: float) -> np.ndarray:
     for side in sides:
         v = side(work)
         n, m = v.shape[:2]
-        depth = min(int(0.2 * m), int(RIM_SCAN_MM * wppm))
+        depth = min(int(0.2 * m), max(int(RIM_SCAN_MM * wppm), int(RIM_SCAN_SHARE * m)))
         seg = max(int(RIM_SEGMENT_MM * wppm), 4) // 2 * 2
         board = max(int(RIM_BOARD_MM * wppm), 3)
         kmin = max(int(RIM_MIN_MM * wppm), 2)
