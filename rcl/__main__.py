@@ -1,4 +1,4 @@
 """`python -m rcl` is the `rcl` command."""
-from .cli import entry
+from .launch import main
 
-entry()
+main()

@@ -234,7 +234,7 @@ def test_ctrl_c_while_checking_or_seeing_ends_with_130_and_a_message(tmp_path):
     for args in (["check", str(tmp_path / "big.rcl")], ["run", str(tmp_path / "big.rcl")]):
         proc = subprocess.Popen([sys.executable, "-m", "rcl", *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                 text=True)
-        time.sleep(1.5)
+        time.sleep(3.0)  # (past start-up's imports, which take over 1.5 s on a busy machine)
         proc.send_signal(signal.SIGINT)
         _out, err = proc.communicate(timeout=60)
         assert proc.returncode == 130 and "interrupted" in err and "Traceback" not in err, (args, err[-500:])
@@ -424,3 +424,28 @@ def test_only_the_first_unknown_names_get_a_suggestion():
     assert not any("did you mean" in d.message for d in unknown[MAX_SUGGESTIONS:])
     assert [d.span.line for d in unknown] == list(range(1, 301))  # every line shown is its own
     assert all(d.source_line.startswith(f"CONST value{d.span.line - 1} ") for d in unknown)
+
+
+def test_ctrl_c_while_the_command_starts_ends_with_130_and_a_message(monkeypatch, capsys):
+    """A Ctrl-C while `rcl` imports its parts (numpy, the parser: the first few tenths of a
+    second) is reported as one later is, not as a traceback."""
+    import types
+
+    from rcl import launch
+
+    class Starting(types.ModuleType):
+        def __getattr__(self, name):
+            raise KeyboardInterrupt
+
+    monkeypatch.setitem(sys.modules, "rcl.cli", Starting("rcl.cli"))
+    with pytest.raises(SystemExit) as stop:
+        launch.main()
+    assert stop.value.code == 130 and "interrupted" in capsys.readouterr().err
+
+
+def test_importing_rcl_is_light():
+    """`import rcl` loads neither numpy nor the parser (they come with Session or Frame), so the
+    command can take a Ctrl-C from its first moments."""
+    code = "import sys, rcl; print('numpy' in sys.modules, 'lark' in sys.modules); rcl.Session; print('numpy' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+    assert out == ["False", "False", "True"]
