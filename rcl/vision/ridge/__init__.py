@@ -45,8 +45,7 @@ only when what lies around it can be seen to be bare board.
    onto another wire), is refused.
 6. Free: the board must show beside the whole span, beyond the tip, and in a
    CLEARANCE_MM disc round the grasp point (room for the fingers); a faint band only
-   next to the wire, along much of the span, is its own flank or shadow (and so is one in the
-   two bands next to it, fading outward, fainter than the wire, not reaching 1.1 mm out), a point beside it
+   next to the wire, along much of the span, is its own flank or shadow, a point beside it
    that falls on the wire itself (where its line hooks, at an end cut aslant) is the wire, and
    a speck of the board's texture (no more than SPECK_MM across) is no obstacle. An end refused
    for something beside it or in that disc is read again as one edge of a wire whose

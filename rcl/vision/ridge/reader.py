@@ -77,8 +77,7 @@ RUN_MM = 0.6  # beside the span: contrast this long along the wire is something 
 SPECK_MM = 2.0  # ... unless it is a speck of the board's texture: no larger than this across
 SPECK_TRACE = 0.5  # ... where its contrast is this share of the threshold for a thing there
 EDGE_SHARE = 0.5  # ... unless only in the band nearest the wire, fainter than this share of it
-EDGE_SPREAD_MM = 5.0  # ... and spread along this much of the span at least (not one thing in one place);
-FADE_OUT = 0.9  # ... or in the two nearest, fainter than the wire, the outer under this share of the inner, not the third
+EDGE_SPREAD_MM = 5.0  # ... and spread along this much of the span at least (not one thing in one place)
 CAP_HITS = 3  # beyond the tip and round the grasp point: so many samples with contrast are something
 DISC_HITS = 4
 CROSS_SHARE = 0.1  # beside a wire of strong contrast, something this share of it (CROSS_FLOOR spreads at
@@ -886,16 +885,10 @@ class EndReader:
         across = None  # each disc point's signed distance from the line, along its normal there
         for k, sign in ((0, -1.0), (1, 1.0)):
             rows = np.flatnonzero(runs[:, k, 0])
-            if not len(rows) or runs[:, k, 2].any() or rows[-1] - rows[0] < EDGE_SPREAD_MM * mm:
+            if not len(rows) or runs[:, k, 1:].any() or inner[:, k].max() >= EDGE_SHARE * level \
+                    or rows[-1] - rows[0] < EDGE_SPREAD_MM * mm:
                 continue
-            if runs[:, k, 1].any() or inner[:, k].max() >= EDGE_SHARE * level:
-                # or seen in the two bands nearest the wire (not in the third, 1.1 mm out), fading
-                # outward (FADE_OUT) and fainter than the wire: its own flank or soft shadow where
-                # its width was read too narrow (a round wire lit from one side: trays 205433, 205983)
-                if inner[:, k].max() >= level or \
-                        median(beside[rows, k, 1]) > FADE_OUT * median(beside[rows, k, 0]):
-                    continue
-            runs[:, k, :2] = False
+            runs[:, k, 0] = False
             if len(disc):
                 if across is None:
                     j = ((disc[:, None, :] - line[None, :, :]) ** 2).sum(axis=2).argmin(axis=1)
