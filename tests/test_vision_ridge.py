@@ -1641,6 +1641,22 @@ def test_ridge_does_not_put_a_tip_in_the_shadow_the_scan_ran_on_into(kind, angle
     assert len(past) == 1 and -0.3 < past[0] < 0.5, (past, res.rejected)
 
 
+@pytest.mark.parametrize("seed", [230019, 230198, 230474, 224317, 205506, 205805])
+def test_ridge_ends_a_conductor_where_it_runs_on_into_the_ends_shadow(seed):
+    """Trays where a copper or tinned conductor is followed on into its end's shadow, which
+    looks like the board darkened: the tip was put 1.6-2.4 mm past the metal's end (230019,
+    230198, 230474, each a foul on the commit before). Where that shade reaches the tip and is
+    no longer than the wire is thick, and the metal before it has another colour than the
+    board's, the conductor ends where the shade begins (out_of_shade). Copper on a wood board
+    darkens it in the board's own colour too (224317), and the outer 3 mm of a ferrule or of a
+    tin may look like shade where the wire is thinner than that (205506, 205805): there the tip
+    stays at the metal's end, as without the rule."""
+    tray = random_tray(seed)
+    res = find_wires_ridge(tray.image, tray.px_per_mm)
+    pick = res.candidates[0] if res.candidates else None
+    assert tray.judge(pick)[0] == "correct", tray.foul_cause(pick)
+
+
 @pytest.mark.parametrize("angle", [20.0, 100.0, 200.0])
 def test_ridge_refuses_an_end_whose_line_changes_colour_past_the_grasp_point(angle):
     """A grey wire on a light board, and a black wire lying on its line from 17.5 mm from the

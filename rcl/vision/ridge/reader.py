@@ -39,6 +39,10 @@ TIP_MAX_MM = 12.0  # the longest ferrule or stripped conductor followed past the
 CONDUCTOR_RIDGE = 1.5  # the finest scale's ridge strength that marks a thin conductor
 CONDUCTOR_CONTRAST = 1.2  # a faint conductor: its axis this far (spreads) above the board beside it
 CONDUCTOR_MIN_MM = 2.5  # ... at least this long (a shorter one is the blur or the shadow of the end)
+SHADE_PAST_MM = 0.5  # a conductor that runs on this far (up to its width) into what looks like board in shadow ends where that
+SHADE_IN_METAL = 0.2  # begins, if no more than this share of it before looks so (and it is CONDUCTOR_MIN_MM long),
+SHADE_METAL_TINT = 1.0  # ... if the metal has another colour than the board's, this much (spreads; not in grey),
+SHADE_TINT_SHARE = 0.5  # ... and the shade no more than this share of that other colour: the board's own, darkened
 CONDUCTOR_WINDOW_MM = 1.0  # ... on average over this much of its length
 CONDUCTOR_NARROW = 0.7  # ... and narrower than the wire: 0.45 of its width off the axis, less than this share of it
 RUN_ON_MM = (0.5, 3.0)  # ... and past its tip, this stretch free of a thin line going on (line_goes_on):
@@ -636,6 +640,8 @@ class EndReader:
             reach = float(steps[i - 1] + np.clip((a - edge) / max(a - b, 1e-6), 0, 1) * 0.5)
         if followed and median(mean[z:i]) < CONDUCTOR_STEADY * median(mean[s0:z]):
             return end  # it does not hold its contrast past end: the end's blur or shadow
+        if not shaded:
+            reach = self.out_of_shade(end, out, width, reach)
         if reach <= SOFT_REACH_MM * mm:  # metal is as sharp as the insulation; a shadow is soft
             stretch = end + np.linspace(0.3, 0.8, 5)[:, None] * reach * out
             inside = end - np.linspace(1.0, 3.0, 5)[:, None] * mm * out
@@ -646,6 +652,41 @@ class EndReader:
         if self.line_goes_on(end + out * reach, out, width):
             return end  # a line of the board's print, not a conductor
         return end + out * reach
+
+    def out_of_shade(self, end: np.ndarray, out: np.ndarray, width: float, reach: float) -> float:
+        """A conductor's reach (working px past the insulation's end `end`) taken back to where
+        it runs on into what looks like board in shadow (shade()), if its own metal does not: the
+        end's shadow, past a metal of another colour than the board's, carries its contrast on.
+        The shadow is the board's colour, darkened, and no longer than the wire's width; the metal
+        has another colour (SHADE_ constants). In a grey image colour cannot tell them: unchanged."""
+        mm = self.wppm
+        steps = np.arange(0.0, reach + 0.01, 0.5)
+        if len(steps) < 4:
+            return reach
+        side = np.array([-out[1], out[0]])
+        lateral = np.array([-0.2, 0.0, 0.2]) * width
+        pts = (end + steps[:, None, None] * out + lateral[None, :, None] * side).reshape(-1, 2)
+        at = _corners(self.h, self.w, pts)
+        p, b = _mix(self.con.work, *at), _mix(self.con.board, *at)
+        if p.ndim == 1:
+            p, b = p[:, None], b[:, None]
+        _, shade = shadow_free(self.con, p, b, _mix(self.f, *at))
+        light = (p * b).sum(axis=1) / np.maximum((b * b).sum(axis=1), 1e-9)
+        tint = np.sqrt((((p - light[:, None] * b) * self.con.unit) ** 2).sum(axis=1))  # (other colour than the board's)
+        shade = shade.reshape(len(steps), len(lateral)).sum(axis=1) >= 2
+        tint = tint.reshape(len(steps), len(lateral)).mean(axis=1)
+        # the last stretch of shade reaching the tip, and the metal before it
+        off = np.flatnonzero(~shade)
+        if not off.size or off[-1] == len(steps) - 1:
+            return reach
+        j = int(off[-1]) + 1  # the first step of the shade that runs to the tip
+        if not SHADE_PAST_MM * mm <= reach - steps[j] <= width or steps[j] < CONDUCTOR_MIN_MM * mm \
+                or shade[:j].mean() > SHADE_IN_METAL:
+            return reach  # (a shadow past the tip is no longer than the wire is thick, in light 45 degrees up)
+        metal = float(median(tint[:j]))
+        if metal < SHADE_METAL_TINT or median(tint[j:]) > SHADE_TINT_SHARE * metal:
+            return reach  # the metal has the board's colour, or what follows it keeps some of the metal's
+        return float(steps[j])
 
     def short_of_shadow(self, scan: np.ndarray, scan_s: np.ndarray, along: np.ndarray, tip_s: float,
                         out: np.ndarray, width: float) -> float:
