@@ -347,10 +347,17 @@ def shadow_free(con: Contrast, p: np.ndarray, b: np.ndarray, f: np.ndarray) -> t
     A shadow darkens the board and keeps its colour: a pixel that is SHADOW_LIGHT of the board's
     colour under it, give or take SHADOW_TINT (spreads) of other colour, is board in shadow; its
     contrast is then only that other colour. In a grey image every such darkening looks so."""
-    light = (p * b).sum(axis=1) / np.maximum((b * b).sum(axis=1), 1e-9)
-    tint = np.sqrt((((p - light[:, None] * b) * con.unit) ** 2).sum(axis=1))
+    light, tint = light_and_tint(con, p, b)
     shade = (light >= SHADOW_LIGHT[0]) & (light <= SHADOW_LIGHT[1]) & (tint < SHADOW_TINT)
     return np.where(shade, tint, f), shade
+
+
+def light_and_tint(con: Contrast, p: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(light, tint) of the colours p over the board's b (each (N, channels)): the share of the
+    board's light (p projected on b), and what other colour is left when b scaled to that light
+    is taken out, in spreads (0 in a grey image)."""
+    light = (p * b).sum(axis=1) / np.maximum((b * b).sum(axis=1), 1e-9)
+    return light, np.sqrt((((p - light[:, None] * b) * con.unit) ** 2).sum(axis=1))
 
 
 def bilinear(layers: np.ndarray, pts: np.ndarray) -> np.ndarray:

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..common import FRAME_MARGIN_MM, GRASP_MM, median, principal_direction
 from ..sighting import Sighting
-from .contrast import Contrast, _corners, _mix, bilinear, shadow_free
+from .contrast import Contrast, _corners, _mix, bilinear, light_and_tint, shadow_free
 from .graph import SPAN_MM, Graph
 from .rim import RIM_EDGE_MM
 
@@ -667,14 +667,10 @@ class EndReader:
         lateral = np.array([-0.2, 0.0, 0.2]) * width
         pts = (end + steps[:, None, None] * out + lateral[None, :, None] * side).reshape(-1, 2)
         at = _corners(self.h, self.w, pts)
-        p, b = _mix(self.con.work, *at), _mix(self.con.board, *at)
-        if p.ndim == 1:
-            p, b = p[:, None], b[:, None]
+        p, b = _mix(self.con.work, *at), _mix(self.con.board, *at)  # (N, channels)
         _, shade = shadow_free(self.con, p, b, _mix(self.f, *at))
-        light = (p * b).sum(axis=1) / np.maximum((b * b).sum(axis=1), 1e-9)
-        tint = np.sqrt((((p - light[:, None] * b) * self.con.unit) ** 2).sum(axis=1))  # (other colour than the board's)
         shade = shade.reshape(len(steps), len(lateral)).sum(axis=1) >= 2
-        tint = tint.reshape(len(steps), len(lateral)).mean(axis=1)
+        tint = light_and_tint(self.con, p, b)[1].reshape(len(steps), len(lateral)).mean(axis=1)
         # the last stretch of shade reaching the tip, and the metal before it
         off = np.flatnonzero(~shade)
         if not off.size or off[-1] == len(steps) - 1:
