@@ -52,7 +52,10 @@ only when what lies around it can be seen to be bare board.
    a speck of the board's texture (no more than SPECK_MM across) is no obstacle. An end refused
    for something beside it or in that disc is read again as one edge of a wire whose
    body does not stand out (a white wire on a white board: its two shaded sides), if
-   another line runs beside it at a steady distance and the two end together. The wire's own
+   another line runs beside it at a steady distance and the two end together; then as wide as
+   all its contrast over the board (a round wire's shaded flank); then as a striped wire's (its
+   width where its contrast, the most over 1 mm either way along it, stands above PEAK_SHARE of
+   its peak: the dark stripes cover all of it there). The wire's own
    line in the fingers' room past the grasp point must keep the wire's colours (those 7-14 mm
    from its tip): another wire lying along that line is cleared from the disc as the wire itself.
 7. The sighting: the tip; the direction into the wire at the tip, the chord of the

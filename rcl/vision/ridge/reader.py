@@ -101,6 +101,10 @@ HOLLOW_MM = (0.8, 3.3)  # a wire whose body does not stand out (light on a board
 HOLLOW_END_MM = 1.5  # ... and they end together, to this much
 MIDDLE_THROUGH = 0.8  # a middle grasp: its line runs on this share of the way out of the disc round it, both ways
 MIDDLE_BOW = 0.5  # ... bowing from its tangent there by no more than this share of that
+STRIPE_ALONG_MM = 1.0  # an end refused for something beside it or in the fingers' room is read again as a
+# striped wire's: its width where its contrast, the most over this much either way along the wire, stands above
+# PEAK_SHARE of its peak, if EXTENT_GROW times the width or more (and as EXTENT_ says); its centre line centred on
+STRIPE_CENTRE = 0.6  # the contrast the most over this share of that width either way along (or STRIPE_ALONG_MM)
 PEAK_SHARE = 0.4  # the wire's width: where its contrast stands above this share of its peak (and the board)
 EXTENT_MAX_MM = 3.3  # an end refused for something beside it or in the fingers' room is read again as a
 # wire as wide as all its contrast over the board, if that is no wider than this (a 3 mm wire and its blur),
@@ -224,14 +228,28 @@ class EndReader:
                 again = self.take(start + off * n[0], line + off * n, how, inward, level, board, full)
                 if not isinstance(again, str):
                     return again
+        if took in (BESIDE, NO_ROOM) and len(line) >= 8:
+            # a striped wire: where its light stripes are faint, the width leaves them out, and
+            # they are seen beside it. Read again as wide as its contrast is over 2 mm along it,
+            # if that is a wire's width, the same all along, and about the centre line (its centre
+            # line, which weaves with the stripes, centred on such contrast too: STRIPE_ constants)
+            wide, spread, off = self._across(line, board, 0.0, PEAK_SHARE, stripes=True)
+            if width * EXTENT_GROW < wide <= EXTENT_MAX_MM * mm and spread <= EXTENT_STEADY_MM * mm \
+                    and abs(off) <= EXTENT_OFF * wide:
+                n = _normals(line)
+                again = self.take(start + off * n[0], line + off * n, how, inward, level, board, wide, stripes=True)
+                if not isinstance(again, str):
+                    return again
         if isinstance(took, str):
             return self.refuse(start, took)
         return took
 
-    def take(self, start, line, how, inward, level, board, width, gap=0.0):
+    def take(self, start, line, how, inward, level, board, width, gap=0.0, stripes=False):
         """The Sighting of the end of centre line `line` (working px, from its end inward), or why
         it is refused. gap: 0, or the distance between the two edges of a wire whose body does
-        not stand out (line then runs between them, and width spans both)."""
+        not stand out (line then runs between them, and width spans both). stripes: the wire is
+        centred on its contrast the most over STRIPE_CENTRE of its width either way along it (a
+        striped wire)."""
         mm = self.wppm
         border = FRAME_MARGIN_MM * mm
         arc = _arc(line)
@@ -275,7 +293,7 @@ class EndReader:
         # the centre line from the tip, and the grasp point GRASP_MM along it
         full = _resample(np.vstack([tip[None, :], ext[es > tip_s + 0.5]]), 1.0)
         if not gap:  # (between two edges the middle is known)
-            full = self.recentred(full, width)
+            full = self.recentred(full, width, max(STRIPE_ALONG_MM * mm, STRIPE_CENTRE * width) if stripes else 0.0)
         s = _arc(full)
         if how == "crossing" and s[-1] < SPAN_MM * mm:  # (read() measured from the ridge's end, which
             # smoothing may carry past the wire's; the span is measured from the tip)
@@ -785,17 +803,21 @@ class EndReader:
         light = (p * b).sum(axis=1) / np.maximum((b * b).sum(axis=1), 1e-9)
         return bool(median(light) > 1.0)
 
-    def recentred(self, line: np.ndarray, width: float) -> np.ndarray:
-        """The centre line moved across the wire to the middle of its contrast (sub-pixel); the
-        first point, the tip, put on the centred line's extension."""
+    def recentred(self, line: np.ndarray, width: float, along: float = 0.0) -> np.ndarray:
+        """The centre line moved across the wire to the middle of its contrast (sub-pixel), that
+        contrast the most over `along` px either way along the line, if not 0; the first point,
+        the tip, put on the centred line's extension."""
         from scipy import ndimage
 
         if len(line) < 5:
             return line
         n = _normals(line)
         offs = np.linspace(-0.8 * width, 0.8 * width, 9)
-        pts = line[:, None, :] + offs[None, :, None] * n[:, None, :]
-        prof = self.sample(pts.reshape(-1, 2), self.FLAT).reshape(len(line), len(offs))
+        ahead = np.linspace(-along, along, 5) if along else np.zeros(1)
+        t = np.column_stack([n[:, 1], -n[:, 0]])
+        pts = line[:, None, None, :] + ahead[None, :, None, None] * t[:, None, None, :] \
+            + offs[None, None, :, None] * n[:, None, None, :]
+        prof = self.sample(pts.reshape(-1, 2), self.FLAT).reshape(len(line), len(ahead), len(offs)).max(axis=1)
         wts = np.clip(prof - 0.5 * prof.max(axis=1, keepdims=True), 0, None)
         total = wts.sum(axis=1)
         shift = np.where(total > 0, (wts * offs).sum(axis=1) / np.maximum(total, 1e-9), 0.0)
@@ -816,7 +838,8 @@ class EndReader:
             return 2.0
         return self._across(line, board, bridge, PEAK_SHARE)[0]
 
-    def _across(self, line: np.ndarray, board: float, bridge: float, share: float) -> tuple[float, float, float]:
+    def _across(self, line: np.ndarray, board: float, bridge: float, share: float,
+                stripes: bool = False) -> tuple[float, float, float]:
         """width()'s measure with the contrast above `share` of its peak (and the board): (the
         median width, the most minus the least of the five, the median offset of their middles from
         the line along its normals), working px."""
@@ -825,8 +848,10 @@ class EndReader:
         t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-9)
         n = np.column_stack([-t[:, 1], t[:, 0]])
         offs = np.arange(-4.0 * self.wppm, 4.0 * self.wppm + 0.01, 0.5)
-        prof = self.sample((line[idx][:, None, :] + offs[None, :, None] * n[:, None, :]).reshape(-1, 2))
-        prof = prof.reshape(len(idx), len(offs))
+        along = np.linspace(-STRIPE_ALONG_MM, STRIPE_ALONG_MM, 5) * self.wppm if stripes else np.zeros(1)
+        at = line[idx][:, None, None, :] + along[None, :, None, None] * t[:, None, None, :] \
+            + offs[None, None, :, None] * n[:, None, None, :]
+        prof = self.sample(at.reshape(-1, 2)).reshape(len(idx), len(along), len(offs)).max(axis=1)
         mid = len(offs) // 2
         peak = prof[:, mid - 4:mid + 5].max(axis=1, keepdims=True)
         above = prof >= np.maximum(share * peak, board)
