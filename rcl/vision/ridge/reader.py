@@ -219,27 +219,20 @@ class EndReader:
         if took in (BESIDE, NO_ROOM) and len(line) >= 8:
             # a round wire lit from one side: its dim flank stands above the board, but under
             # PEAK_SHARE of the lit one, and the width leaves it out; what was seen beside the wire
-            # may be that flank. Read again as wide as all its contrast, if that is a wire's width,
-            # the same all along, and about the centre line (the EXTENT_ constants)
-            full, spread, off = self._across(line, board, 0.0, 0.0)
-            if width * EXTENT_GROW < full <= EXTENT_MAX_MM * mm and spread <= EXTENT_STEADY_MM * mm \
-                    and abs(off) <= EXTENT_OFF * full:
-                n = _normals(line)
-                again = self.take(start + off * n[0], line + off * n, how, inward, level, board, full)
-                if not isinstance(again, str):
-                    return again
-        if took in (BESIDE, NO_ROOM) and len(line) >= 8:
-            # a striped wire: where its light stripes are faint, the width leaves them out, and
-            # they are seen beside it. Read again as wide as its contrast is over 2 mm along it,
-            # if that is a wire's width, the same all along, and about the centre line (its centre
-            # line, which weaves with the stripes, centred on such contrast too: STRIPE_ constants)
-            wide, spread, off = self._across(line, board, 0.0, PEAK_SHARE, stripes=True)
-            if width * EXTENT_GROW < wide <= EXTENT_MAX_MM * mm and spread <= EXTENT_STEADY_MM * mm \
-                    and abs(off) <= EXTENT_OFF * wide:
-                n = _normals(line)
-                again = self.take(start + off * n[0], line + off * n, how, inward, level, board, wide, stripes=True)
-                if not isinstance(again, str):
-                    return again
+            # may be that flank. Read again as wide as all its contrast (the EXTENT_ constants). A
+            # striped wire: where its light stripes are faint, the width leaves them out too. Read
+            # again as wide as its contrast is over 2 mm along it (its centre line, which weaves
+            # with the stripes, centred on such contrast too: the STRIPE_ constants). Each if that
+            # is a wire's width, the same all along, and about the centre line
+            for share, stripes in ((0.0, False), (PEAK_SHARE, True)):
+                wide, spread, off = self._across(line, board, 0.0, share, stripes)
+                if width * EXTENT_GROW < wide <= EXTENT_MAX_MM * mm and spread <= EXTENT_STEADY_MM * mm \
+                        and abs(off) <= EXTENT_OFF * wide:
+                    n = _normals(line)
+                    again = self.take(start + off * n[0], line + off * n, how, inward, level, board, wide,
+                                      stripes=stripes)
+                    if not isinstance(again, str):
+                        return again
         if isinstance(took, str):
             return self.refuse(start, took)
         return took
@@ -813,11 +806,7 @@ class EndReader:
             return line
         n = _normals(line)
         offs = np.linspace(-0.8 * width, 0.8 * width, 9)
-        ahead = np.linspace(-along, along, 5) if along else np.zeros(1)
-        t = np.column_stack([n[:, 1], -n[:, 0]])
-        pts = line[:, None, None, :] + ahead[None, :, None, None] * t[:, None, None, :] \
-            + offs[None, None, :, None] * n[:, None, None, :]
-        prof = self.sample(pts.reshape(-1, 2), self.FLAT).reshape(len(line), len(ahead), len(offs)).max(axis=1)
+        prof = self._across_most(line, n, offs, along, self.FLAT)
         wts = np.clip(prof - 0.5 * prof.max(axis=1, keepdims=True), 0, None)
         total = wts.sum(axis=1)
         shift = np.where(total > 0, (wts * offs).sum(axis=1) / np.maximum(total, 1e-9), 0.0)
@@ -829,6 +818,16 @@ class EndReader:
         ahead /= max(float(np.linalg.norm(ahead)), 1e-9)
         out[0] = out[1] + ahead * float(np.linalg.norm(line[0] - line[1]))
         return out
+
+    def _across_most(self, at: np.ndarray, n: np.ndarray, offs: np.ndarray, along: float, of: int = F) -> np.ndarray:
+        """A layer across a line: at each point `at`, at the offsets `offs` (px) along its unit
+        normal n, the most of five samples over `along` px either way along the line (or the one
+        sample, if along is 0): (len(at), len(offs))."""
+        ahead = np.linspace(-along, along, 5) if along else np.zeros(1)
+        t = np.column_stack([n[:, 1], -n[:, 0]])
+        pts = at[:, None, None, :] + ahead[None, :, None, None] * t[:, None, None, :] \
+            + offs[None, None, :, None] * n[:, None, None, :]
+        return self.sample(pts.reshape(-1, 2), of).reshape(len(at), len(ahead), len(offs)).max(axis=1)
 
     def width(self, line: np.ndarray, board: float, bridge: float = 0.0) -> float:
         """The wire's width (working px): across it at five places, how far its contrast stands
@@ -848,10 +847,7 @@ class EndReader:
         t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-9)
         n = np.column_stack([-t[:, 1], t[:, 0]])
         offs = np.arange(-4.0 * self.wppm, 4.0 * self.wppm + 0.01, 0.5)
-        along = np.linspace(-STRIPE_ALONG_MM, STRIPE_ALONG_MM, 5) * self.wppm if stripes else np.zeros(1)
-        at = line[idx][:, None, None, :] + along[None, :, None, None] * t[:, None, None, :] \
-            + offs[None, None, :, None] * n[:, None, None, :]
-        prof = self.sample(at.reshape(-1, 2)).reshape(len(idx), len(along), len(offs)).max(axis=1)
+        prof = self._across_most(line[idx], n, offs, STRIPE_ALONG_MM * self.wppm if stripes else 0.0)
         mid = len(offs) // 2
         peak = prof[:, mid - 4:mid + 5].max(axis=1, keepdims=True)
         above = prof >= np.maximum(share * peak, board)
