@@ -841,7 +841,8 @@ class EndReader:
                 stripes: bool = False) -> tuple[float, float, float]:
         """width()'s measure with the contrast above `share` of its peak (and the board): (the
         median width, the most minus the least of the five, the median offset of their middles from
-        the line along its normals), working px."""
+        the line along its normals), working px. stripes: each profile across is the most over
+        STRIPE_ALONG_MM either way along the line (a striped wire's dark stripes cover its width)."""
         idx = np.linspace(len(line) // 4, len(line) - 2, 5).astype(int)
         t = line[np.minimum(idx + 2, len(line) - 1)] - line[np.maximum(idx - 2, 0)]
         t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-9)
