@@ -1118,6 +1118,36 @@ def test_ridge_graph_finds_the_end_of_a_line_that_ends_in_a_small_cross():
     assert tray.judge(res.candidates[0] if res.candidates else None)[0] == "correct"
 
 
+@pytest.mark.parametrize("side_px, back_px, way, jumps", [
+    (4, 2, 1, True), (4, -3, 1, True), (2, 0, 1, True), (-4, 2, 1, True),  # stepped aside, level, overlapping or past
+    (4, 2, -1, False),  # the piece beside goes back the way the line came: another wire's end
+    (7, 2, 1, False),  # 2.8 mm aside (JOG_SIDE_MM 2): a wire lying beside it
+    (4, 6, 1, False)])  # 2.4 mm back (JOG_BACK_MM 1.5): side by side, not a step
+def test_ridge_graph_follows_a_centre_line_stepped_sideways(side_px, back_px, way, jumps):
+    """A striped wire's ridge can move from stripe to stripe (or a metal tip's off the
+    insulation's axis): the centre line stops and goes on beside itself, the two pieces side by
+    side or just overlapping (trays 205226, 230544: the line "stops within 20 mm" and the end is
+    set aside). The trace steps across to a line end within JOG_SIDE_MM of the way ahead, from
+    JOG_BACK_MM back, whose line goes on the same way, and on along it; not to one whose line goes
+    back, nor one too far aside or too far back. At 2.5 px/mm."""
+    from rcl.vision.ridge.graph import Graph
+
+    sk = np.zeros((60, 140), bool)
+    sk[30, 10:40] = True  # the end's piece: 12 mm from column 10 to 39
+    row, col = 30 + side_px, 40 - back_px
+    if way > 0:
+        sk[row, col:col + 60] = True  # the piece beside it, going on
+    else:
+        sk[row, col - 60:col + 1] = True  # ... going back
+    g = Graph(sk, 2.5)
+    path, how = g.trace(int((30 + 1) * g.W + 10 + 1), 20.0 * 2.5)
+    on_other = any(g.rc(q)[0] == row for q in path)
+    assert (how == "far" and on_other) == jumps, (how, [g.rc(q) for q in path[-4:]])
+    if jumps:  # on along the other piece, not back over what it stepped across
+        cols = [g.rc(q)[1] for q in path if g.rc(q)[0] == row]
+        assert cols == sorted(cols) and cols[0] >= 39 - 1
+
+
 def test_ridge_graph_reads_an_end_whose_line_goes_on_across_a_break():
     """A centre line broken a little way from its end (where a bright conductor meets dark
     insulation the ridge may break) leaves a short piece at the end; the trace jumps the break,

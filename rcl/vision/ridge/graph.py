@@ -12,6 +12,9 @@ SPAN_MM = 20.0  # wire that must be free from the tip: the grasp point and 5 mm 
 SPUR_MM = 3.0  # branches this short that end at a crossing are whiskers
 GAP_MM = 2.5  # a break in a centre line this long, straight ahead, is bridged
 GAP_CONE_DEG = 30.0
+JOG_SIDE_MM = 2.0  # ... or a line end this far to the side of it, going on the same way (JOG_CONE_DEG), from
+JOG_BACK_MM = 1.5  # this far back (the two pieces side by side) to GAP_MM ahead: a centre line stepped sideways
+JOG_CONE_DEG = 30.0
 MIDDLE_AWAY_MM = 8.0  # a middle grasp: this far from every crossing of the centre lines
 MIDDLE_END_MM = 20.0  # ... and this far along its line from every end of the lines: held by its middle, it hangs
 UNDER_MM = 6.0  # ... two line ends this near, facing each other (UNDER_CONE_DEG), are where a wire goes under another
@@ -20,6 +23,7 @@ MIDDLE_STEP_MM = 3.0  # ... tried at points this far apart
 MIDDLE_MAX = 60  # ... at most this many
 _COS_CONE = math.cos(math.radians(GAP_CONE_DEG))
 _COS_UNDER = math.cos(math.radians(UNDER_CONE_DEG))
+_COS_JOG = math.cos(math.radians(JOG_CONE_DEG))
 
 
 class Graph:
@@ -58,28 +62,27 @@ class Graph:
     def trace(self, start: int, limit_px: float) -> tuple[list[int], str]:
         """Follow the centre line from an end for limit_px of arc: (pixels, how it stopped:
         'crossing', 'end' or 'far')."""
-        flat, offsets = self.flat.tobytes(), self.offsets  # bytes: a Python index per pixel is cheap
+        flat = self.flat.tobytes()  # bytes: a Python index per pixel is cheap
         path = [start]
         prev = -1
         cur = start
         arc = 0.0
         while arc < limit_px:
-            nxt = [cur + o for o in offsets if flat[cur + o] and cur + o != prev and cur + o not in path[-3:]]
+            nxt = self._onward(flat, cur, prev, path[-3:])
             if not nxt:
                 jump = self.across_gap(path) if len(path) > 4 else None
+                before = -1
                 if jump is None:
-                    return path, "end"
+                    jog = self.across_jog(path, flat) if len(path) > 4 else None
+                    if jog is None:
+                        return path, "end"
+                    jump, before = jog
                 arc += float(np.hypot(*np.subtract(divmod(jump, self.W), divmod(cur, self.W))))
-                prev, cur = -1, jump
+                prev, cur = before, jump
                 path.append(cur)
                 continue
             if len(nxt) > 1:
-                # an edge neighbour and the diagonal beside it are one step of the same line
-                edge = [q for q in nxt if abs(q - cur) in (1, self.W)]
-                if len(nxt) == 2 and len(edge) == 1 and _adjacent(nxt[0], nxt[1], self.W):
-                    nxt = edge
-                else:
-                    return path, "crossing"
+                return path, "crossing"
             step = nxt[0]
             arc += 1.0 if abs(step - cur) in (1, self.W) else 1.4142
             prev, cur = cur, step
@@ -102,28 +105,95 @@ class Graph:
         """Where the centre line goes on across a short break straight ahead of path's last pixel:
         the nearest other line end within GAP_MM in a GAP_CONE_DEG cone (a break leaves two ends
         facing each other), or None."""
-        W = self.W
-        here = np.array(divmod(path[-1], W), float)
-        back = np.array(divmod(path[max(len(path) - 1 - int(2.0 * self.wppm), 0)], W), float)
-        ahead = here - back
-        n = float(np.linalg.norm(ahead))
-        if n < 1.0:
+        heading = self._heading(path)
+        if heading is None:
             return None
-        ahead /= n
         rr, cc, dist = self._gap_window
-        cone = rr * ahead[0] + cc * ahead[1] >= _COS_CONE * dist
-        idx = path[-1] + (rr[cone] * W + cc[cone]).astype(np.int64)
-        ok = (idx >= 0) & (idx < len(self.flat))
-        idx, d = idx[ok], dist[cone][ok]
-        hit = (self.degree[idx] == 1) & self.flat[idx]
-        if not hit.any():
-            return None
+        idx, d = self._ends_among(path[-1], rr * heading[1][0] + cc * heading[1][1] >= _COS_CONE * dist)
         recent = set(path[-12:])
-        for k in np.argsort(d[hit]):
-            i = int(idx[hit][k])
-            if i not in recent:
-                return i
+        for k in np.argsort(d):
+            if int(idx[k]) not in recent:
+                return int(idx[k])
         return None
+
+    def across_jog(self, path: list[int], flat: bytes | None = None) -> tuple[int, int] | None:
+        """Where the centre line goes on stepped sideways at path's last pixel (a striped wire's
+        ridge moving from stripe to stripe, or a metal tip's off the insulation's axis): the end of
+        another line within JOG_SIDE_MM of the way ahead, from JOG_BACK_MM back to GAP_MM ahead
+        (outside across_gap's cone), whose line goes on the same way (JOG_CONE_DEG). (the pixel of
+        that line where it is first level with path's last or ahead of it, the pixel before it on
+        that line), or None. flat: the grid as bytes, if at hand."""
+        heading = self._heading(path)
+        if heading is None:
+            return None
+        here, ahead = heading
+        mm = self.wppm
+        rr, cc, dist = self._gap_window
+        fwd = rr * ahead[0] + cc * ahead[1]
+        near = (np.abs(cc * ahead[0] - rr * ahead[1]) <= JOG_SIDE_MM * mm) & (fwd >= -JOG_BACK_MM * mm) \
+            & (fwd < _COS_CONE * dist)
+        idx, d = self._ends_among(path[-1], near)
+        on_path = set(path)
+        for k in np.argsort(d):
+            i = int(idx[k])
+            if i in on_path:
+                continue
+            walk = self._walk(i, math.ceil(2.0 * mm) + 1, flat)
+            if len(walk) < 3:
+                continue
+            pts = self.rcs(walk)
+            way = pts[-1] - pts[0]
+            if way @ ahead < _COS_JOG * float(np.linalg.norm(way)):
+                continue  # its line goes back the way the trace came: another wire's end beside it
+            level = np.flatnonzero((pts - here) @ ahead >= 0.0)
+            if not len(level) or any(q in on_path for q in walk[:level[0] + 1]):
+                continue
+            j = int(level[0])
+            return walk[j], (walk[j - 1] if j else -1)
+        return None
+
+    def _heading(self, path: list[int]) -> tuple[np.ndarray, np.ndarray] | None:
+        """(path's last pixel (row, col), the unit way ahead along its last 2 mm), or None if
+        the path is too short to say."""
+        here = self.rcs([path[-1]])[0]
+        ahead = here - self.rcs([path[max(len(path) - 1 - int(2.0 * self.wppm), 0)]])[0]
+        n = float(np.linalg.norm(ahead))
+        return None if n < 1.0 else (here, ahead / n)
+
+    def _ends_among(self, at: int, keep: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The line ends among the offsets of _gap_window where keep is set, from pixel at:
+        (their pixels, their distances)."""
+        rr, cc, dist = self._gap_window
+        idx = at + (rr[keep] * self.W + cc[keep]).astype(np.int64)
+        ok = (idx >= 0) & (idx < len(self.flat))
+        idx, d = idx[ok], dist[keep][ok]
+        hit = (self.degree[idx] == 1) & self.flat[idx]
+        return idx[hit], d[hit]
+
+    def _onward(self, flat, cur: int, prev: int, recent: list[int]) -> list[int]:
+        """The pixels the centre line goes on to from cur, not back to prev or the recent ones:
+        none at an end, one, or more at a crossing (an edge neighbour and the diagonal beside
+        it are one step of the same line). flat: the grid as bytes (a Python index per pixel is
+        cheap)."""
+        nxt = [cur + o for o in self.offsets if flat[cur + o] and cur + o != prev and cur + o not in recent]
+        if len(nxt) == 2:
+            edge = [q for q in nxt if abs(q - cur) in (1, self.W)]
+            if len(edge) == 1 and _adjacent(nxt[0], nxt[1], self.W):
+                return edge
+        return nxt
+
+    def _walk(self, start: int, steps: int, flat: bytes | None = None) -> list[int]:
+        """Up to steps pixels along the centre line from an end, stopping at a crossing (flat:
+        the grid as bytes, if at hand)."""
+        flat = self.flat.tobytes() if flat is None else flat
+        path, prev, cur = [start], -1, start
+        for _ in range(steps):
+            nxt = self._onward(flat, cur, prev, path[-3:])
+            if len(nxt) != 1:
+                break
+            prev, cur = cur, nxt[0]
+            path.append(cur)
+        return path
 
     @property
     def _gap_window(self):
