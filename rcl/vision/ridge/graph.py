@@ -59,34 +59,30 @@ class Graph:
         """rc() of each pixel, as (N, 2) float (row, col)."""
         return np.column_stack(np.divmod(np.array(pixels), self.W)).astype(float) - 1.0
 
-    def trace(self, start: int, limit_px: float, jumps: bool = True) -> tuple[list[int], str]:
+    def trace(self, start: int, limit_px: float) -> tuple[list[int], str]:
         """Follow the centre line from an end for limit_px of arc: (pixels, how it stopped:
-        'crossing', 'end' or 'far'). jumps: across a break (across_gap) or a step (across_jog)."""
-        flat, offsets = self.flat.tobytes(), self.offsets  # bytes: a Python index per pixel is cheap
+        'crossing', 'end' or 'far')."""
+        flat = self.flat.tobytes()  # bytes: a Python index per pixel is cheap
         path = [start]
         prev = -1
         cur = start
         arc = 0.0
         while arc < limit_px:
-            nxt = [cur + o for o in offsets if flat[cur + o] and cur + o != prev and cur + o not in path[-3:]]
+            nxt = self._onward(flat, cur, prev, path[-3:])
             if not nxt:
-                onto = None  # (the pixel jumped to, the one before it on its line, or -1)
-                if jumps and len(path) > 4:
-                    gap = self.across_gap(path)
-                    onto = (gap, -1) if gap is not None else self.across_jog(path)
-                if onto is None:
-                    return path, "end"
-                arc += float(np.hypot(*np.subtract(divmod(onto[0], self.W), divmod(cur, self.W))))
-                cur, prev = onto
+                jump = self.across_gap(path) if len(path) > 4 else None
+                before = -1
+                if jump is None:
+                    jog = self.across_jog(path, flat) if len(path) > 4 else None
+                    if jog is None:
+                        return path, "end"
+                    jump, before = jog
+                arc += float(np.hypot(*np.subtract(divmod(jump, self.W), divmod(cur, self.W))))
+                prev, cur = before, jump
                 path.append(cur)
                 continue
             if len(nxt) > 1:
-                # an edge neighbour and the diagonal beside it are one step of the same line
-                edge = [q for q in nxt if abs(q - cur) in (1, self.W)]
-                if len(nxt) == 2 and len(edge) == 1 and _adjacent(nxt[0], nxt[1], self.W):
-                    nxt = edge
-                else:
-                    return path, "crossing"
+                return path, "crossing"
             step = nxt[0]
             arc += 1.0 if abs(step - cur) in (1, self.W) else 1.4142
             prev, cur = cur, step
@@ -120,13 +116,13 @@ class Graph:
                 return int(idx[k])
         return None
 
-    def across_jog(self, path: list[int]) -> tuple[int, int] | None:
+    def across_jog(self, path: list[int], flat: bytes | None = None) -> tuple[int, int] | None:
         """Where the centre line goes on stepped sideways at path's last pixel (a striped wire's
         ridge moving from stripe to stripe, or a metal tip's off the insulation's axis): the end of
         another line within JOG_SIDE_MM of the way ahead, from JOG_BACK_MM back to GAP_MM ahead
         (outside across_gap's cone), whose line goes on the same way (JOG_CONE_DEG). (the pixel of
         that line where it is first level with path's last or ahead of it, the pixel before it on
-        that line), or None."""
+        that line), or None. flat: the grid as bytes, if at hand."""
         heading = self._heading(path)
         if heading is None:
             return None
@@ -142,7 +138,7 @@ class Graph:
             i = int(idx[k])
             if i in on_path:
                 continue
-            walk = self.trace(i, 2.0 * mm + 1.0, jumps=False)[0]
+            walk = self._walk(i, math.ceil(2.0 * mm) + 1, flat)
             if len(walk) < 3:
                 continue
             pts = self.rcs(walk)
@@ -173,6 +169,31 @@ class Graph:
         idx, d = idx[ok], dist[keep][ok]
         hit = (self.degree[idx] == 1) & self.flat[idx]
         return idx[hit], d[hit]
+
+    def _onward(self, flat, cur: int, prev: int, recent: list[int]) -> list[int]:
+        """The pixels the centre line goes on to from cur, not back to prev or the recent ones:
+        none at an end, one, or more at a crossing (an edge neighbour and the diagonal beside
+        it are one step of the same line). flat: the grid as bytes (a Python index per pixel is
+        cheap)."""
+        nxt = [cur + o for o in self.offsets if flat[cur + o] and cur + o != prev and cur + o not in recent]
+        if len(nxt) == 2:
+            edge = [q for q in nxt if abs(q - cur) in (1, self.W)]
+            if len(edge) == 1 and _adjacent(nxt[0], nxt[1], self.W):
+                return edge
+        return nxt
+
+    def _walk(self, start: int, steps: int, flat: bytes | None = None) -> list[int]:
+        """Up to steps pixels along the centre line from an end, stopping at a crossing (flat:
+        the grid as bytes, if at hand)."""
+        flat = self.flat.tobytes() if flat is None else flat
+        path, prev, cur = [start], -1, start
+        for _ in range(steps):
+            nxt = self._onward(flat, cur, prev, path[-3:])
+            if len(nxt) != 1:
+                break
+            prev, cur = cur, nxt[0]
+            path.append(cur)
+        return path
 
     @property
     def _gap_window(self):
