@@ -70,15 +70,14 @@ class Graph:
         while arc < limit_px:
             nxt = self._onward(flat, cur, prev, path[-3:])
             if not nxt:
-                jump = self.across_gap(path) if len(path) > 4 else None
-                before = -1
-                if jump is None:
-                    jog = self.across_jog(path, flat) if len(path) > 4 else None
-                    if jog is None:
-                        return path, "end"
-                    jump, before = jog
-                arc += float(np.hypot(*np.subtract(divmod(jump, self.W), divmod(cur, self.W))))
-                prev, cur = before, jump
+                onto = None  # (the pixel jumped to, the one before it on its line, or -1)
+                if len(path) > 4:
+                    gap = self.across_gap(path)
+                    onto = (gap, -1) if gap is not None else self.across_jog(path, flat)
+                if onto is None:
+                    return path, "end"
+                arc += float(np.hypot(*np.subtract(divmod(onto[0], self.W), divmod(cur, self.W))))
+                cur, prev = onto
                 path.append(cur)
                 continue
             if len(nxt) > 1:
