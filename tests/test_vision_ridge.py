@@ -396,6 +396,38 @@ def test_a_rim_wider_than_25_mm_is_found_on_a_wide_frame():
     assert out[:, :79].all() and not out[:, 84:].any()
 
 
+@pytest.mark.parametrize("cols", [(0, 32), (160, 192), (352, 384)])
+def test_a_rim_is_found_past_something_of_its_colour_reaching_into_the_tray(cols):
+    """Where something of the rim's colour reaches from it 6 mm into the tray (a wire's end lying
+    over the rim, a thing at its edge), that 8 mm of the side shows its edge 6 mm further in. The
+    rim's curve is fitted to the other segments, not pulled off them all by that one (trays
+    205853, 205009, 205192: no rim found, and an end at it taken)."""
+    rng = np.random.default_rng(5)
+    image = 0.6 + rng.normal(0, 0.01, (300, 400, 3))
+    image[:24, :] = (0.75, 0.7, 0.6)  # a rim along the top, 6 mm wide
+    image[:50, cols[0]:cols[1]] = (0.75, 0.7, 0.6)
+    out = find_rim(image.astype(np.float32), 4.0)
+    assert out[:23, :].all() and not out[27:, :].any()
+
+
+@pytest.mark.parametrize("sag_px, rim", [(6.0, True), (25.0, False)])
+def test_a_band_bowing_more_than_a_lens_bows_a_rim_is_no_rim(sag_px, rim):
+    """A lens bows a straight rim a little (6 px over a 400 px side: 1.5 %). A band from the frame's
+    edge whose edge bows 25 px (6 %) is light falling off towards the frame's top, or what lies
+    beyond a tray seen aslant (a workshop photograph, 20240425_165831_crop_1_crop_4: 7 %), and its
+    ends are not at a rim."""
+    rng = np.random.default_rng(5)
+    image = 0.6 + rng.normal(0, 0.01, (300, 400, 3))
+    x = np.arange(400)
+    edge = 30.0 - sag_px * (1 - ((x - 200) / 200.0) ** 2)  # 30 px in at the corners
+    image[np.arange(300)[:, None] < edge[None, :]] = (0.75, 0.7, 0.6)
+    out = find_rim(image.astype(np.float32), 4.0)
+    if rim:
+        assert out[:int(30 - sag_px) - 1, :].all() and not out[32:, :].any()
+    else:
+        assert not out.any()
+
+
 @pytest.mark.parametrize("gap_mm, free", [(5.0, True), (2.6, True), (1.5, False)])
 def test_ridge_takes_an_end_near_a_rim_and_refuses_one_at_it(gap_mm, free):
     """The tip of a 2 mm wire 2.6 mm from a rim is 1.6 mm clear of it: free, as the ground truth

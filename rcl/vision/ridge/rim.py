@@ -14,6 +14,7 @@ RIM_BOARD_LOW, RIM_BOARD_HIGH = 20, 80  # ... whose spread is judged between the
 RIM_CLEAR = 4.0  # ... this many times more than the band or the board varies
 RIM_SHARE = 0.6  # ... along this share of the side's segments
 RIM_BEND_PX = 1.5  # ... on one smooth curve (a lens bows a straight rim) to within this
+RIM_BOW = 0.02  # ... bowing no more than this share of the side's length off a straight line
 RIM_EDGE_MM = 1.0  # the blur of a rim's edge: samples this near it say nothing of what lies round an end
 
 
@@ -43,15 +44,30 @@ def find_rim(work: np.ndarray, wppm: float) -> np.ndarray:
         if ok.mean() < RIM_SHARE:
             continue
         centres = np.arange(nseg) * seg + seg / 2
-        coef = np.polyfit(centres[ok], edges[ok], 2)
-        ok &= np.abs(np.polyval(coef, centres) - np.nan_to_num(edges)) <= RIM_BEND_PX
-        if ok.mean() < RIM_SHARE:
+        coef = _smooth_curve(centres, edges, ok, n)
+        if coef is None:
             continue
-        coef = np.polyfit(centres[ok], edges[ok], 2)
         k = np.clip(np.polyval(coef, np.arange(n)) + 1.0, 0, depth)
         mask = side(outside)
         mask |= np.arange(m)[None, :] < k[:, None]
     return outside
+
+
+def _smooth_curve(centres: np.ndarray, edges: np.ndarray, ok: np.ndarray, n: int) -> np.ndarray | None:
+    """The quadratic through the edges found (`ok`) that RIM_SHARE of the side's segments lie on
+    to within RIM_BEND_PX, or None: fitted to them all, then refitted without the one furthest
+    off while any is further than that (one segment's edge found on a wire or the board's print
+    across the band must not pull the curve off all the others). A lens bows a straight rim a
+    little; a curve bowing more than RIM_BOW of the side's length (n px) is no rim but light
+    falling off towards the frame's edge, or what lies beyond a tray seen aslant."""
+    ok = ok.copy()
+    while ok.mean() >= RIM_SHARE:
+        coef = np.polyfit(centres[ok], edges[ok], 2)
+        off = np.where(ok, np.abs(np.polyval(coef, centres) - np.nan_to_num(edges)), 0.0)
+        if off.max() <= RIM_BEND_PX:
+            return coef if abs(coef[0]) * n * n / 4 <= RIM_BOW * n else None  # (the bow off the chord)
+        ok[int(off.argmax())] = False
+    return None
 
 
 def _steps(prof: np.ndarray, kmin: int, board: int, gap: int) -> np.ndarray:
