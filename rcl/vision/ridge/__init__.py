@@ -79,10 +79,9 @@ only when what lies around it can be seen to be bare board.
    over or under a threshold).
 9. Read again finer where nothing is free: if no end is free, the image is read again at the
    next finer working scale (none below 3 px/mm; the first reading's rim taken, resampled),
-   and its free ends that the next coarser scale's reading finds free too (as in step 8),
-   best first, are the candidates: a neighbour, the board's print or a tip's blur that fills
-   the bands beside a thin wire at the working scale lies apart from it one step finer; the
-   coarser reading keeps out a mark of the board that only the finer one finds free.
+   and its free ends, best first, are the candidates: a neighbour, the board's print or a
+   tip's blur that fills the bands beside a thin wire at the working scale lies apart from it
+   one step finer.
 """
 from __future__ import annotations
 
@@ -123,8 +122,8 @@ def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = EN
                      confirm: bool = True, finer: bool = True) -> RidgeResult:
     """Graspable wire ends in an image (grey or colour) at px_per_mm, best first. confirm: the
     best free end that the image read at two other scales finds free too comes first (step 8);
-    finer: where no end is free, the free ends of the image read at the next finer scale that
-    the next coarser finds free too (step 9)."""
+    finer: where no end is free, the free ends of the image read at the next finer scale
+    (step 9)."""
     result, clock, began, graph, reader = _look(image, px_per_mm)
     ordered = graph.ends_in_order(reader.f)
     for end in graph.short:
@@ -172,9 +171,8 @@ def _confirm(image: np.ndarray, px_per_mm: float, result: RidgeResult, first: En
 
 def _read_finer(image: np.ndarray, px_per_mm: float, result: RidgeResult, first: EndReader, enough: int) -> None:
     """Step 9: where the first reading found no end free, the image read again at the next finer
-    working scale (none below 3 px/mm); its free ends that the reading at the next coarser scale
-    finds free too (CONFIRM_MM, CONFIRM_DEG), best first, taken as the candidates. The rim the
-    first reading found is taken, resampled, not sought again."""
+    working scale (none below 3 px/mm), its free ends, best first, taken as the candidates. The
+    rim the first reading found is taken, resampled, not sought again."""
     from ...camera.images import ImageError
 
     k = _finer(result.scale)
@@ -182,22 +180,15 @@ def _read_finer(image: np.ndarray, px_per_mm: float, result: RidgeResult, first:
         return
     try:
         _, _, _, graph, reader = _look(image, px_per_mm, k, first)
-        free = sorted((s for s in map(reader.read, graph.ends_in_order(reader.f)) if s is not None),
-                      key=lambda s: -s.score)
-        coarser = _Rereading(image, px_per_mm, _coarser(result.scale), first) if free else None
-    except ImageError:  # the image is too small to read at one of those scales
+    except ImageError:  # the image is too small to read at that scale
         return
-    tol = CONFIRM_MM * px_per_mm
-    for s in free:
-        if coarser is not None and any(_agree(s, c, tol) for c in coarser.free_near(s)):
+    for end in graph.ends_in_order(reader.f):
+        s = reader.read(end)
+        if s is not None:
             result.candidates.append(s)
             if enough and len(result.candidates) >= enough:
                 break
-
-
-def _coarser(k: float) -> float:
-    """The working scale (input px per working px) next coarser than k."""
-    return {1: 1.5, 1.5: 2}.get(k, k + 1)
+    result.candidates.sort(key=lambda s: -s.score)
 
 
 def _finer(k: float) -> float | None:
@@ -207,7 +198,8 @@ def _finer(k: float) -> float | None:
 
 def _other_scales(k: float) -> list[float]:
     """The working scales (input px per working px) next coarser and next finer than k."""
-    return [s for s in (_coarser(k), _finer(k)) if s is not None]
+    coarser = {1: 1.5, 1.5: 2}.get(k, k + 1)
+    return [s for s in (coarser, _finer(k)) if s is not None]
 
 
 class _Rereading:
