@@ -971,48 +971,6 @@ def test_ridge_takes_an_end_the_other_scales_confirm_over_a_roomier_one_they_do_
     assert sorted(confirmed, key=lambda s: -s.score) == plain
 
 
-def test_where_no_end_is_free_the_image_is_read_again_at_the_next_finer_scale(monkeypatch):
-    # every end the first reading (4 px/mm: worked on at k = 2) reads is refused, as if it saw
-    # something beside it: the candidates are then the free ends of the reading at k = 1.5, in
-    # input pixels; without step 9, none. Below 3 px/mm (k = 1) there is nothing finer to read.
-    from rcl.vision.ridge.reader import EndReader
-    from rcl.vision.scenes import WireLook
-    looks = [WireLook("black", BLACK, ("flat", "flat"), (0.0, 0.0), 0.0)]
-    image = grey_board_image([rightward_wire([30.0, 40.0])], looks, 4)
-    plain = find_wires_ridge(image, 4.0).candidates
-    assert len(plain) == 1
-    read, scales = EndReader.read, []
-
-    def refused_at_k2(self, end):
-        scales.append(self.k)
-        return None if self.k == 2 else read(self, end)
-    monkeypatch.setattr(EndReader, "read", refused_at_k2)
-    assert find_wires_ridge(image, 4.0, finer=False).candidates == [] and set(scales) == {2}
-    got = find_wires_ridge(image, 4.0).candidates
-    assert set(scales) == {2, 1.5} and len(got) == 1
-    assert np.hypot(got[0].end[0] - plain[0].end[0], got[0].end[1] - plain[0].end[1]) < 0.5 * 4.0
-    assert abs(got[0].end_angle - plain[0].end_angle) < 5.0
-    import rcl.vision.ridge as ridge
-    look, at = ridge._look, []
-    monkeypatch.setattr(ridge, "_look", lambda im, ppm, k=None, first=None: at.append(k) or look(im, ppm, k, first))
-    assert find_wires_ridge(image, 4.0).candidates == got and at == [None, 1.5]
-    at.clear()
-    small = np.asarray(image)[::2, ::2]  # (2 px/mm: worked on as it is, k = 1)
-    monkeypatch.setattr(EndReader, "read", lambda self, end: None)
-    assert find_wires_ridge(small, 2.0).candidates == [] and at == [None]
-
-
-@pytest.mark.parametrize("seed", [205238, 224874])
-def test_ridge_takes_an_end_the_finer_scale_finds_free_where_the_first_reading_finds_none(seed):
-    # development trays where the working scale's reading refused every end (205238: a graspable
-    # end with no refusal near it; 224874: none read near it) and the next finer scale's reading
-    # finds the graspable one free
-    tray = random_tray(seed)
-    assert find_wires_ridge(tray.image, tray.px_per_mm, finer=False).candidates == []
-    got = find_wires_ridge(tray.image, tray.px_per_mm).candidates
-    assert got and tray.judge(got[0])[0] == "correct"
-
-
 def test_ridge_copes_with_blank_noise_tiny_and_bad_images():
     assert find_wires_ridge(np.full((128, 128), 0.5)).candidates == []
     assert find_wires_ridge(np.random.default_rng(1).uniform(size=(256, 256))).candidates == []

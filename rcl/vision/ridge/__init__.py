@@ -77,11 +77,6 @@ only when what lies around it can be seen to be bare board.
    this makes no miss: it puts first an end that does not hang on how the image happened to
    be sampled (a thin conductor seen at one scale and not the next, a faint neighbour just
    over or under a threshold).
-9. Read again finer where nothing is free: if no end is free, the image is read again at the
-   next finer working scale (none below 3 px/mm; the first reading's rim taken, resampled),
-   and its free ends, best first, are the candidates: a neighbour, the board's print or a
-   tip's blur that fills the bands beside a thin wire at the working scale lies apart from it
-   one step finer.
 """
 from __future__ import annotations
 
@@ -119,11 +114,9 @@ class RidgeResult:
 
 
 def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = ENOUGH,
-                     confirm: bool = True, finer: bool = True) -> RidgeResult:
+                     confirm: bool = True) -> RidgeResult:
     """Graspable wire ends in an image (grey or colour) at px_per_mm, best first. confirm: the
-    best free end that the image read at two other scales finds free too comes first (step 8);
-    finer: where no end is free, the free ends of the image read at the next finer scale
-    (step 9)."""
+    best free end that the image read at two other scales finds free too comes first (step 8)."""
     result, clock, began, graph, reader = _look(image, px_per_mm)
     ordered = graph.ends_in_order(reader.f)
     for end in graph.short:
@@ -139,9 +132,6 @@ def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = EN
     if confirm and len(result.candidates) >= 2:
         _confirm(image, px_per_mm, result, reader)
         clock("confirm")
-    if finer and not result.candidates:
-        _read_finer(image, px_per_mm, result, reader, enough)
-        clock("finer")
     result.timings["total"] = (clock.last - began) * 1000.0
     return result
 
@@ -169,37 +159,11 @@ def _confirm(image: np.ndarray, px_per_mm: float, result: RidgeResult, first: En
             return
 
 
-def _read_finer(image: np.ndarray, px_per_mm: float, result: RidgeResult, first: EndReader, enough: int) -> None:
-    """Step 9: where the first reading found no end free, the image read again at the next finer
-    working scale (none below 3 px/mm), its free ends, best first, taken as the candidates. The
-    rim the first reading found is taken, resampled, not sought again."""
-    from ...camera.images import ImageError
-
-    k = _finer(result.scale)
-    if k is None:
-        return
-    try:
-        _, _, _, graph, reader = _look(image, px_per_mm, k, first)
-    except ImageError:  # the image is too small to read at that scale
-        return
-    for end in graph.ends_in_order(reader.f):
-        s = reader.read(end)
-        if s is not None:
-            result.candidates.append(s)
-            if enough and len(result.candidates) >= enough:
-                break
-    result.candidates.sort(key=lambda s: -s.score)
-
-
-def _finer(k: float) -> float | None:
-    """The working scale (input px per working px) next finer than k, if any."""
-    return {1: None, 1.5: 1, 2: 1.5}.get(k, k - 1)
-
-
 def _other_scales(k: float) -> list[float]:
     """The working scales (input px per working px) next coarser and next finer than k."""
     coarser = {1: 1.5, 1.5: 2}.get(k, k + 1)
-    return [s for s in (coarser, _finer(k)) if s is not None]
+    finer = {1: None, 1.5: 1, 2: 1.5}.get(k, k - 1)
+    return [s for s in (coarser, finer) if s is not None]
 
 
 class _Rereading:
