@@ -861,6 +861,20 @@ def test_ridge_takes_a_round_wire_whose_dim_flank_stands_out_for_the_wire(ppm, l
     assert abs(np.linalg.norm(grasp - centre[0]) - 15.0) < 1.0
 
 
+@pytest.mark.parametrize("widths, expected", [
+    ([3.0, 3.1, 3.2, 3.05, 3.15], 0.2),  # steady: the range
+    ([2.93, 3.12, 3.12, 3.12, 1.76], 1.5 * 0.19),  # one narrow place (tray 205433, a flank meeting a dark patch)
+    ([3.46, 3.23, 3.23, 6.70, 3.23], 3.47),  # one wide place: a neighbour touching it is no outlier (230902)
+    ([1.95, 2.68, 2.44, 2.68, 2.93], 1.5 * 0.49),  # narrow at its end, widening: still unsteady (205914)
+    ([2.0, 2.5], 0.5), ([2.0], 0.0)])
+def test_a_wires_widths_are_unsteady_by_their_range_or_less_for_one_narrow_place(widths, expected):
+    from rcl.vision.ridge.reader import EXTENT_STEADY_MM, OUTLIER_SPREAD, unsteadiness
+
+    assert unsteadiness(np.array(widths)) == pytest.approx(expected, abs=1e-9)
+    assert unsteadiness(np.array(widths[::-1])) == pytest.approx(expected, abs=1e-9)
+    assert OUTLIER_SPREAD * 0.19 <= EXTENT_STEADY_MM < OUTLIER_SPREAD * 0.49  # 205433 steady enough, 205914 not
+
+
 def test_ridge_takes_the_end_with_the_most_room_round_it():
     # two free ends: a black wire's, with another running beside its first 6 mm, 3 mm from its
     # side (clear of the free test but close), read first (the stronger contrast), and a grey

@@ -110,6 +110,7 @@ EXTENT_MAX_MM = 3.3  # an end refused for something beside it or in the fingers'
 # wire as wide as all its contrast over the board, if that is no wider than this (a 3 mm wire and its blur),
 EXTENT_GROW = 1.15  # ... this much wider than the width read at PEAK_SHARE or more,
 EXTENT_STEADY_MM = 0.6  # ... as wide to this much at each of the places it is measured,
+OUTLIER_SPREAD = 1.5  # ... or to two thirds of that at all places but the narrowest (where a flank meets a board of its tone)
 EXTENT_OFF = 0.2  # ... and centred on the centre line to this share of it (a wire lit from one side, its
 # dim flank over the board but under PEAK_SHARE of the lit one; a neighbour close beside it is off to one side)
 REAPPEAR_MM = 10.0  # past a tip, the wire's colour again starting within this (something across the way first),
@@ -840,7 +841,7 @@ class EndReader:
     def _across(self, line: np.ndarray, board: float, bridge: float, share: float,
                 stripes: bool = False) -> tuple[float, float, float]:
         """width()'s measure with the contrast above `share` of its peak (and the board): (the
-        median width, the most minus the least of the five, the median offset of their middles from
+        median width, how unsteady the five are (unsteadiness), the median offset of their middles from
         the line along its normals), working px. stripes: each profile across is the most over
         STRIPE_ALONG_MM either way along the line (a striped wire's dark stripes cover its width)."""
         idx = np.linspace(len(line) // 4, len(line) - 2, 5).astype(int)
@@ -866,8 +867,7 @@ class EndReader:
         hi = np.where(~above & (at > m), at, above.shape[1]).min(axis=1) - 1
         widths = (hi - lo + 1)[seen] * 0.5
         middle = ((lo + hi)[seen] * 0.5 - mid) * 0.5
-        return (float(np.clip(median(widths), 1.0, 4.0 * self.wppm)), float(widths.max() - widths.min()),
-                float(median(middle)))
+        return float(np.clip(median(widths), 1.0, 4.0 * self.wppm)), unsteadiness(widths), float(median(middle))
 
     def span(self, full, grasp, width) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """What the free test and the room round an end look beside: the centre line along the
@@ -1125,6 +1125,16 @@ class EndReader:
         end_angle = math.degrees(math.atan2(inward[0], inward[1]))
         grasp_angle = math.degrees(math.atan2(tangent[0], tangent[1])) % 180.0
         return Sighting(to_input(tip), end_angle, to_input(grasp), grasp_angle, score)
+
+
+def unsteadiness(widths: np.ndarray) -> float:
+    """How much a wire's widths measured at several places differ: their range, or OUTLIER_SPREAD
+    times the range of all but the narrowest, if less (one place where a flank meets a patch of
+    the board of its own tone reads narrower; one that reads wider may be a neighbour touching)."""
+    r = np.sort(np.asarray(widths, float))
+    if len(r) < 3:
+        return float(r[-1] - r[0]) if len(r) else 0.0
+    return float(min(r[-1] - r[0], OUTLIER_SPREAD * (r[-1] - r[1])))
 
 
 def _across_tip(width: float, mm: float) -> np.ndarray:
