@@ -16,7 +16,9 @@ slice its draw matches, see scenes.tags), the first pick is:
 - miss: no pick although the tray has a graspable end.
 The fouls are also counted by cause (synth.Tray.foul_cause: an end that is not graspable, and
 why; a pick short of the end along its wire or past it; at no wire end; a direction, grasp
-point or tangent off).
+point or tangent off), and every verdict by how near the ground truth's rules it lies
+(synth.Tray.nearness: the least change, mm, of the tray or the pick that would turn it over: a
+foul a hair's breadth over the rule, or a miss of an end with a hair's room, against a gross one).
 The same counts by what the slices do not say: the board's kind, the image's size, how many
 wires, colour or grey (drawn_with).
 Also the median end and angle errors of the correct picks, the median time per image and
@@ -24,9 +26,9 @@ per stage on 512 x 512 images (one core), the paper's slices for the binary syst
 bright wires of one polarity on a plain board: plain_dark, plain_bright) and, with --old, the
 seven fixed kinds of synth.make_tray the paper's systems were first measured on.
 
-To judge a change tray by tray (on seeds below 300000): --save FILE writes every tray's verdict
-and foul cause per method (JSON); run again after the change with --against FILE, and it lists
-the trays whose verdict changed, and counts them, before the tables.
+To judge a change tray by tray (on seeds below 300000): --save FILE writes every tray's verdict,
+foul cause and nearness per method (JSON); run again after the change with --against FILE, and
+it lists the trays whose verdict changed, and counts them, before the tables.
 """
 from __future__ import annotations
 
@@ -54,7 +56,8 @@ def judge_one(job):
         ms = (time.perf_counter() - t) * 1000.0
         pick = res.candidates[0] if res.candidates else None
         verdict, err, ang = tray.judge(pick)
-        out[m] = (verdict, err, ang, ms, dict(res.timings), tray.foul_cause(pick) if verdict == "foul" else "")
+        out[m] = (verdict, err, ang, ms, dict(res.timings), tray.foul_cause(pick) if verdict == "foul" else "",
+                  tray.nearness(pick))
     return out
 
 
@@ -93,8 +96,26 @@ def row(label: str, verdicts: list, errs=None, angs=None, ms=None) -> str:
     return f"  {label:<16} {n:>5} {pc('correct'):>8} {pc('foul'):>7} {pc('miss'):>7}{extra}{t}"
 
 
+NEAR_MM = (0.25, 0.5, 1.0)  # near_table's bins
+
+
+def near_table(results: list, m: str) -> None:
+    """Each verdict counted by how near the ground truth's rules it lies (Tray.nearness: the least
+    change, mm, of the tray or the pick that would turn it over): how many fouls and misses are a
+    hair's breadth from the rule, how many gross."""
+    heads = [f"<={NEAR_MM[0]}", *(f"{a}-{b}" for a, b in zip(NEAR_MM, NEAR_MM[1:])), f">{NEAR_MM[-1]}", "not mm"]
+    print("  each verdict by how near the ground truth's rules it lies (the least change, mm, that turns it over):")
+    print(f"    {'verdict':<8} " + " ".join(f"{h:>9}" for h in heads))
+    for v in ("correct", "foul", "miss"):
+        near = [r[m][6] for r in results if r[m][0] == v]
+        counts = [0] * (len(NEAR_MM) + 2)  # (each bin holds its upper bound; the last: not in mm)
+        for x in near:
+            counts[-1 if x is None else bisect.bisect_left(NEAR_MM, x)] += 1
+        print(f"    {v:<8} " + " ".join(f"{c:>9}" for c in counts))
+
+
 def changed(before: dict, after: dict) -> list[tuple[str, int, str, str]]:
-    """The trays whose verdict differs between two saved runs ({method: {seed: [verdict, cause]}},
+    """The trays whose verdict differs between two saved runs ({method: {seed: [verdict, cause, ...]}},
     seeds as strings, as JSON keeps them): (method, seed, what it was, what it is), a verdict
     followed by its foul cause where there is one; only methods and seeds both runs hold."""
     out = []
@@ -102,7 +123,7 @@ def changed(before: dict, after: dict) -> list[tuple[str, int, str, str]]:
         for seed in sorted(set(before[m]) & set(after[m]), key=int):
             was, now = before[m][seed], after[m][seed]
             if was[0] != now[0]:
-                out.append((m, int(seed), " ".join(filter(None, was)), " ".join(filter(None, now))))
+                out.append((m, int(seed), " ".join(filter(None, was[:2])), " ".join(filter(None, now[:2]))))
     return out
 
 
@@ -132,7 +153,7 @@ def main() -> None:
     with one_core_pool(args.jobs) as pool:
         results = list(pool.map(judge_one, jobs, chunksize=8))
     print(f"  {sum(r['graspable'] for r in results)} trays have a graspable end")
-    verdicts = {m: {str(seed): [r[m][0], r[m][5]] for (seed, _), r in zip(jobs, results)} for m in methods}
+    verdicts = {m: {str(seed): [r[m][0], r[m][5], r[m][6]] for (seed, _), r in zip(jobs, results)} for m in methods}
     if args.save:
         Path(args.save).write_text(json.dumps(verdicts))
     if args.against:
@@ -177,7 +198,7 @@ def main() -> None:
         at512 = [r[m] for r in results if tuple(r["size"]) == (512, 512)]
         if at512:
             stages = collections.defaultdict(list)
-            for _, _, _, _, timings, _ in at512:
+            for _, _, _, _, timings, _, _ in at512:
                 for k, v in timings.items():
                     stages[k].append(v)
             print(f"  512 x 512 ({len(at512)} images), median ms per stage: "
@@ -187,6 +208,7 @@ def main() -> None:
             print(f"  the fouls by cause (Tray.foul_cause), % of the {len(results)} trays:")
             for why, k in causes.most_common():
                 print(f"    {100 * k / len(results):5.2f}%  {k:>4}  {why}")
+        near_table(results, m)
     print(f"\nwithin each named slice ({args.slice_trays} trays each, seeds {args.seed0}..):")
     print(f"  {'slice':<16} " + " ".join(f"{m + ' c/f/m %':>18}" for m in methods))
     sj = [(args.seed0 + i, name, methods) for name in SLICES for i in range(args.slice_trays)]

@@ -188,13 +188,24 @@ def test_the_vision_benchmark_lists_the_trays_whose_verdict_changed():
     vision = benchmark("vision")
     before = {"ridge": {"7": ["correct", ""], "12": ["foul", "past the end, on from its wire"], "30": ["miss", ""]},
               "grey": {"7": ["miss", ""]}}
-    after = {"ridge": {"7": ["correct", ""], "12": ["correct", ""], "30": ["foul", "at no wire end"],
-                       "31": ["foul", "at no wire end"]},
+    after = {"ridge": {"7": ["correct", "", 2.0], "12": ["correct", "", 0.3], "30": ["foul", "at no wire end", None],
+                       "31": ["foul", "at no wire end", None]},  # (now with each verdict's nearness)
              "binary": {"7": ["foul", "at no wire end"]}}
     # only what both runs hold, in seed order (as numbers: "12" before "30"), a foul with its cause
     assert vision.changed(before, after) == [("ridge", 12, "foul past the end, on from its wire", "correct"),
                                              ("ridge", 30, "miss", "foul at no wire end")]
     assert vision.changed(after, after) == []
+
+
+def test_the_vision_benchmark_counts_each_verdict_by_how_near_the_rule_it_lies(capsys):
+    vision = benchmark("vision")
+    results = [{"ridge": (v, 0, 0, 0, {}, "", near)} for v, near in
+               [("correct", 2.0), ("correct", 0.1), ("foul", 0.3), ("foul", 0.25), ("foul", None), ("miss", 1.5),
+                ("miss", 0.6)]]
+    vision.near_table(results, "ridge")
+    rows = {line.split()[0]: [int(x) for x in line.split()[1:]] for line in capsys.readouterr().out.splitlines()[2:]}
+    # bins: <= 0.25, 0.25-0.5, 0.5-1, > 1 mm, not in mm
+    assert rows == {"correct": [1, 0, 0, 1, 0], "foul": [1, 1, 0, 0, 1], "miss": [0, 0, 1, 1, 0]}
 
 
 def test_the_vision_benchmark_groups_trays_by_what_they_are_drawn_with():

@@ -178,6 +178,50 @@ def test_things_on_the_tray_are_measured_from_their_edges():
     assert ground_truth([w], (100.0, 100.0), [screw])[0].graspable
 
 
+def test_an_ends_margin_is_how_far_it_lies_from_the_other_side_of_the_rule():
+    from rcl.vision.sighting import Sighting
+    from rcl.vision.synth import Tray
+
+    # wire A, 2 mm wide, along x at y = 40 from x = 20 to 80; wire B, 1 mm wide, across it at x = bx;
+    # a 100 x 100 mm image at 4 px/mm. A's end at x = 20: its span runs to x = 39.5 (GRASP_MM + 5,
+    # sampled every 0.5 mm), its grasp point at x = 35.
+    def tray(bx):
+        a = Wire(np.column_stack([np.linspace(20.0, 80.0, 121), np.full(121, 40.0)]), 2.0, 0, (0.1,))
+        b = Wire(np.column_stack([np.full(161, bx), np.linspace(10.0, 90.0, 161)]), 1.0, 1, (0.9,))
+        t = Tray(np.zeros((400, 400)), 4.0, [a, b])
+        t.ends = ground_truth([a, b], 100.0)
+        return t
+
+    far, near = tray(42.0), tray(41.0)
+    # B's edge 41.5: 2 mm past the span, 1 mm from A's edge, 0.5 mm more than TOUCH_MM
+    assert far.ends[0].graspable and far.margin(far.ends[0]) == pytest.approx(0.5, abs=0.03)
+    # B's edge 40.5: edge to edge with A at the span's last point, 0.5 mm nearer than TOUCH_MM
+    assert not near.ends[0].graspable and near.margin(near.ends[0]) == pytest.approx(-0.5, abs=0.03)
+    # A's other end, 17 mm from the border and 20 mm from B: its least room is from A itself, which
+    # the loop test takes up again 28 mm from the end (GRASP_MM + 5 + 2 widths + the fingers' 4 mm):
+    # 8.5 mm past its span's last point, less A's half width and TOUCH_MM
+    assert far.margin(far.ends[1]) == pytest.approx(7.0, abs=0.03)
+    for t in (far, near):  # the rule and the margin agree on every end
+        assert all(e.graspable == (t.margin(e) >= 0) for e in t.ends)
+
+    def pick(x):  # mm along A, the grasp 15 mm on
+        return Sighting((4 * x, 160.0), 0.0, (4 * (x + 15.0), 160.0), 0.0)
+
+    # correct, 0.5 mm from the tip's limit and 0.5 mm of room: 0.5 from being turned over
+    assert far.judge(pick(19.0))[0] == "correct" and far.nearness(pick(19.0)) == pytest.approx(0.5, abs=0.03)
+    # 2.25 mm short: foul by 0.75; on the touched end: foul by its 0.5 mm
+    assert far.judge(pick(22.25))[0] == "foul" and far.nearness(pick(22.25)) == pytest.approx(0.75, abs=0.03)
+    assert near.judge(pick(20.0))[0] == "foul" and near.nearness(pick(20.0)) == pytest.approx(0.5, abs=0.03)
+    # 6 mm short (a conductor not followed): its tip 4.5 mm over, its grasp point 21 mm along, 2 over
+    assert far.nearness(pick(26.0)) == pytest.approx(4.5, abs=0.03)
+    # the grasp point 2.25 mm off the wire's axis, 0.5 mm past its edge and the 0.75 mm allowed
+    off = Sighting((80.0, 160.0), 0.0, (140.0, 169.0), 0.0)
+    assert far.judge(off)[0] == "foul" and far.nearness(off) == pytest.approx(0.5, abs=0.03)
+    # a miss: the roomiest graspable end's room (A's far end, 7 mm); a wrong direction: not in mm
+    assert far.judge(None)[0] == "miss" and far.nearness(None) == pytest.approx(7.0, abs=0.03)
+    assert far.nearness(Sighting((80.0, 160.0), 40.0, (140.0, 160.0), 0.0)) is None
+
+
 @pytest.mark.slow
 def test_the_wires_are_drawn_where_the_ground_truth_says():
     for seed in range(6):

@@ -227,7 +227,7 @@ def random_tray(seed: int, slice: str | None = None) -> Tray:
         w.level = look.colour
         w.tip = max(look.tip_mm)
     image = render(scene, wires, rng)
-    tray = Tray(image, scene.px_per_mm, wires, kind=slice or "random")
+    tray = Tray(image, scene.px_per_mm, wires, kind=slice or "random", things=list(scene.things))
     tray.ends = ground_truth(wires, extent, scene.things)
     tray.scene = scene  # type: ignore[attr-defined]
     return tray

@@ -56,6 +56,7 @@ class Tray:
     wires: list[Wire]
     ends: list[End] = field(default_factory=list)
     kind: str = ""
+    things: list = field(default_factory=list)  # what else lies on the tray (Thing)
 
 
     def judge(self, pick) -> tuple[str, float | None, float | None]:
@@ -97,6 +98,32 @@ class Tray:
             return "the grasp point is not 11-19 mm along"
         return "the tangent at the grasp point is off"
 
+    def margin(self, end: End) -> float:
+        """end_margin of one of this tray's ends (mm: how far from the other side of the rule)."""
+        extent = np.array([self.image.shape[1], self.image.shape[0]]) / self.px_per_mm
+        return end_margin(self.wires, end.wire, end.end, extent, self.things)
+
+    def nearness(self, pick) -> float | None:
+        """How near the ground truth's rules the verdict on a first pick lies: the least change
+        (mm) of the tray or the pick that would turn it over. A correct pick: the least of the
+        end's room (margin) and how far its tip and its grasp point may still move (the tip 1.5
+        mm less its error; the grasp point along the wire to 11 or 19 mm, across it to where it
+        leaves it); a foul: the most by which any of those is over (all must be mended); a
+        miss: the room of the roomiest graspable end; no pick where nothing is graspable: how far
+        the nearest end is from being graspable. None for a foul whose direction or tangent is
+        off (a matter of degrees, not millimetres)."""
+        if pick is None:
+            if any(e.graspable for e in self.ends):
+                return max(self.margin(e) for e in self.ends if e.graspable)
+            return -max((self.margin(e) for e in self.ends), default=-math.inf)
+        m = self._measure(pick)
+        rooms = [self.margin(m["truth"]), 1.5 - m["err"], 19.0 - m["arc"], m["arc"] - 11.0, m["on_wire_by"]]
+        if _correct(m):
+            return min(rooms)
+        if m["ang"] > 20 or m["tan_err"] > 15:
+            return None
+        return -min(rooms)
+
     def _measure(self, pick) -> dict:
         """The pick against the true end nearest it: that end (truth), the end's error (err, mm)
         and its components along the true direction into the wire and across it (along, across),
@@ -114,12 +141,13 @@ class Tray:
         pts = wire.centre if truth.end == 0 else wire.centre[::-1]
         arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
         i = int(np.argmin(np.linalg.norm(pts - grasp, axis=1)))
-        on_wire = np.linalg.norm(pts[i] - grasp) < wire.width / 2 + 0.75
+        on_wire_by = wire.width / 2 + 0.75 - float(np.linalg.norm(pts[i] - grasp))  # (mm to spare)
         t = pts[min(i + 4, len(pts) - 1)] - pts[max(i - 4, 0)]
         tangent = math.degrees(math.atan2(t[1], t[0])) % 180.0
         tan_err = abs((pick.grasp_angle - tangent + 90.0) % 180.0 - 90.0)
         u = truth.direction
-        return {"truth": truth, "err": err, "ang": ang, "on_wire": on_wire, "arc": float(arc[i]), "tan_err": tan_err,
+        return {"truth": truth, "err": err, "ang": ang, "on_wire": on_wire_by > 0, "on_wire_by": on_wire_by,
+                "arc": float(arc[i]), "tan_err": tan_err,
                 "along": float(off @ u), "across": float(off @ np.array([-u[1], u[0]]))}
 
 
@@ -344,32 +372,46 @@ def material_distance(wire: Wire, points: np.ndarray) -> np.ndarray:
 
 
 def _graspable(ws: list[Wire], i: int, end: int, extent: np.ndarray, things=()) -> tuple[bool, str]:
+    for room, why in _rules(ws, i, end, extent, things):
+        if room < 0:
+            return False, why
+    return True, ""
+
+
+def end_margin(ws: list[Wire], i: int, end: int, extent, things=()) -> float:
+    """How far (mm) wire i's end lies from the other side of the ground truth's rule: for a
+    graspable end, the least room any of its tests leaves (by how much the nearest other wire,
+    thing or border could come nearer before it would not be graspable); for one that is not,
+    minus the most by which a test fails (how much nearer than allowed the worst of them is)."""
+    extent = np.broadcast_to(np.asarray(extent, float), (2,))
+    return min(room for room, _ in _rules(ws, i, end, extent, things))
+
+
+def _rules(ws: list[Wire], i: int, end: int, extent: np.ndarray, things=()):
+    """The ground truth's tests of wire i's end, in order: (room, why) for each, room the mm by
+    which it passes (negative: fails), why what a failure means."""
     w = ws[i]
     span = np.array([w.point_at(end, s) for s in np.arange(0.0, GRASP_MM + 5.0, 0.5)])
-    if np.any(span < END_MARGIN_MM) or np.any(span > extent - END_MARGIN_MM):
-        return False, "off the image or cut by its border"
+    yield min(float(span.min()) - END_MARGIN_MM, float((extent - END_MARGIN_MM - span).min())), \
+        "off the image or cut by its border"
     grasp = w.point_at(end, GRASP_MM)
     own = resample(w.centre if end == 0 else w.centre[::-1], 0.5)
     skip = int((GRASP_MM + 5.0 + 2 * w.width + FINGER_CLEARANCE_MM) / 0.5)
     if len(own) > skip + 1:  # the same wire, further on, coming back (a loop)
         rest = Wire(own[skip:], w.width, w.layer, w.level)
-        if material_distance(rest, span).min() < w.width / 2 + TOUCH_MM:
-            return False, "it crosses or touches itself near its end"
-        if material_distance(rest, grasp[None, :])[0] < FINGER_CLEARANCE_MM:
-            return False, "no room for the fingers at the grasp point"
+        yield float(material_distance(rest, span).min()) - w.width / 2 - TOUCH_MM, \
+            "it crosses or touches itself near its end"
+        yield float(material_distance(rest, grasp[None, :])[0]) - FINGER_CLEARANCE_MM, \
+            "no room for the fingers at the grasp point"
     for thing in things:
-        if thing.distance(span).min() - w.width / 2 < TOUCH_MM:
-            return False, f"it touches {thing.name} near its end"
-        if thing.distance(grasp[None, :])[0] < FINGER_CLEARANCE_MM:
-            return False, "no room for the fingers at the grasp point"
+        yield float(thing.distance(span).min()) - w.width / 2 - TOUCH_MM, f"it touches {thing.name} near its end"
+        yield float(thing.distance(grasp[None, :])[0]) - FINGER_CLEARANCE_MM, "no room for the fingers at the grasp point"
     for j, other in enumerate(ws):
         if j == i:
             continue
-        gap = material_distance(other, span).min() - w.width / 2  # edge to edge
+        gap = float(material_distance(other, span).min()) - w.width / 2  # edge to edge
         if gap < 0 and other.layer > w.layer:
-            return False, "another wire lies on top of it"
-        if material_distance(other, grasp[None, :])[0] < FINGER_CLEARANCE_MM:
-            return False, "no room for the fingers at the grasp point"
-        if gap < TOUCH_MM:
-            return False, "it crosses or touches another wire near its end"
-    return True, ""
+            yield gap - TOUCH_MM, "another wire lies on top of it"
+        yield float(material_distance(other, grasp[None, :])[0]) - FINGER_CLEARANCE_MM, \
+            "no room for the fingers at the grasp point"
+        yield gap - TOUCH_MM, "it crosses or touches another wire near its end"
