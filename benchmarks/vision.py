@@ -205,9 +205,13 @@ def main() -> None:
                   + ", ".join(f"{k} {np.median(v):.2f}" for k, v in stages.items()))
         causes = collections.Counter(r[m][5] for r in results if r[m][0] == "foul")
         if causes:
-            print(f"  the fouls by cause (Tray.foul_cause), % of the {len(results)} trays:")
+            print(f"  the fouls by cause (Tray.foul_cause), % of the {len(results)} trays; of each, how many "
+                  f"lie within {NEAR_MM[1]} mm of the rule and how many over {NEAR_MM[-1]} mm or in degrees:")
             for why, k in causes.most_common():
-                print(f"    {100 * k / len(results):5.2f}%  {k:>4}  {why}")
+                near = [r[m][6] for r in results if r[m][0] == "foul" and r[m][5] == why]
+                close = sum(x is not None and x <= NEAR_MM[1] for x in near)
+                gross = sum(x is None or x > NEAR_MM[-1] for x in near)
+                print(f"    {100 * k / len(results):5.2f}%  {k:>4}  ({close:>3} near, {gross:>3} gross)  {why}")
         near_table(results, m)
     print(f"\nwithin each named slice ({args.slice_trays} trays each, seeds {args.seed0}..):")
     print(f"  {'slice':<16} " + " ".join(f"{m + ' c/f/m %':>18}" for m in methods))
