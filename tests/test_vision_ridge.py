@@ -1636,6 +1636,70 @@ def test_ridge_hidden_sees_a_wire_run_onto_a_patch_of_its_own_colour(patch, wire
     assert reader.hidden(tip, np.array([0.0, 1.0]), 2.2 * mm, level) == hidden
 
 
+def band_image(wire_from=20.0, shift=0.3, patch=(0.9, 0.5, 0.1), inline=None, conductor=False, across=False,
+               ppm=4.0, size=512):
+    """A pink wire 2.2 mm wide along row 64 mm from `wire_from` to 100 mm on a grey board; left of
+    45 mm (the whole height) an orange band (`patch`, or None: the board) behind it, over which
+    the wire's colour is mixed `shift` of the way to the band's (a rendered cable lit by what is
+    behind it). inline: the colour of the wire's part left of 45 mm (another wire's end abutting
+    it in line); conductor: a bright line 0.6 mm wide 7 mm on from 45 mm; across: a blue wire 3
+    mm wide lying across the way 0.5-3.5 mm past 45 mm."""
+    from scipy import ndimage
+
+    yy, xx = np.mgrid[0:size, 0:size] / ppm
+    wire = np.array([0.85, 0.3, 0.6])
+    img = np.empty((size, size, 3))
+    img[:] = (0.6, 0.6, 0.6)
+    left = xx < 45.0
+    on = (xx >= wire_from) & (xx <= 100.0) & (np.abs(yy - 64.0) <= 1.1)
+    if patch is not None:
+        img[left] = patch
+    img[on] = wire
+    if patch is not None:
+        img[on & left] = (1 - shift) * wire + shift * np.array(patch)
+    if inline is not None:
+        img[on & left] = inline
+    if conductor:
+        img[(xx >= 38.0) & left & (np.abs(yy - 64.0) <= 0.3)] = (0.95, 0.95, 0.9)
+    if across:
+        img[(xx >= 41.5) & (xx < 44.5)] = (0.2, 0.3, 0.8)
+    img = ndimage.gaussian_filter(img, (0.8, 0.8, 0)) + np.random.default_rng(0).normal(0, 0.01, img.shape)
+    return np.clip(img, 0, 1).astype(np.float32)
+
+
+@pytest.mark.parametrize("kw, hidden, goes_on", [
+    ({}, False, True),  # the wire goes on over the band, its colour 0.3 of the way to the band's
+    ({"shift": 0.5}, False, True),  # ... half way
+    ({"shift": 0.0}, True, True),  # ... unchanged: hidden() takes it too
+    ({"wire_from": 45.0}, False, False),  # its true end against the band
+    ({"wire_from": 45.0, "patch": None}, False, False),  # its true end on the board
+    ({"wire_from": 45.0, "patch": None, "conductor": True}, False, False),  # a stripped conductor past it
+    ({"wire_from": 45.0, "patch": None, "across": True}, False, False),  # a wire lying across the way
+    ({"patch": None, "inline": (0.2, 0.3, 0.8)}, False, False),  # a blue wire's end abutting it in line
+    ({"wire_from": 45.0, "patch": (0.85, 0.3, 0.6)}, True, False),  # a broad patch of its colour: no edges
+])
+def test_ridge_sees_a_wires_edges_go_on_past_where_its_contrast_ends(kw, hidden, goes_on):
+    """Seen on cables_segmentation's rendered workshop scenes: a pink cable in front of an orange
+    shelf, a purple one in front of a grey wall; where the scene behind changes, the cable's
+    contrast (against the board's estimate, which follows the scene) ends, and that was taken
+    for its end, while its colour, lit by the scene, changes too much for hidden(). Its two
+    edges go on past the tip with its colour between them (EndReader.edges_go_on); at a true
+    end, a conductor, a wire across the way or another wire's end in line, they do not, or the
+    colour between them is not the wire's."""
+    from rcl.vision.ridge import _look
+
+    image = band_image(**kw)
+    *_, reader = _look(image, 4.0)
+    mm = reader.wppm
+    tip = np.array([64.0, 45.0]) * mm - 0.5 * (reader.k - 1) / reader.k
+    line = tip + np.arange(2.0, 12.0, 0.5)[:, None] * mm * np.array([0.0, 1.0])
+    level = float(np.median(reader.sample(line)))
+    assert level > 10.0
+    inward = np.array([0.0, 1.0])
+    assert reader.hidden(tip, inward, 2.2 * mm, level) == hidden
+    assert reader.edges_go_on(tip, inward, 2.2 * mm) == goes_on
+
+
 def test_the_readers_3x3_dilation_is_scipys():
     # reader._grown stands in for ndimage.binary_dilation(mask, np.ones((3, 3))) on the small
     # windows round a speck: the same pixels, edges included

@@ -120,6 +120,8 @@ REAPPEAR_SHARE = 0.4  # ... nearer the wire's colour than this share of the boar
 REAPPEAR_SIDE_MM = 1.0  # ... and narrow: not so this far out from its edges on either side
 REAPPEAR_ACROSS = 0.1  # ... where what lies between stands out of the board by this share of the wire's contrast
 REAPPEAR_DIFFERS = 0.3  # asked only where the wire differs from the board beside it by this share of its contrast
+EDGES_ON = 0.4  # past a tip, 1-4 mm out, the wire's two edges going on this strong (share of their own 1-4 mm in)
+EDGES_HUE = 0.7  # ... and its middle nearer the wire's colour than this share of the board's beside it: it goes on
 COLOUR_CHANGE = 0.55  # along the line 1 mm past the grasp point to the fingers' room's edge, a colour this far (a
 # share of the wire's contrast) from every colour of the wire 7-14 mm from its tip, over COLOUR_RUN_MM: another
 COLOUR_RUN_MM = 1.0  # wire lies along its line there (a black wire's end in line with a grey wire: tray 205574)
@@ -321,6 +323,8 @@ class EndReader:
             return "past its end the image has the wire's own colour: it may go on unseen"
         if not gap and self.reappears(on_axis, inward, width, level):
             return "its wire shows again past something across its end: it runs under it"
+        if not gap and self.edges_go_on(on_axis, inward, width):
+            return "past its end its two edges go on, its colour between them: it may go on unseen"
         span = self.span(full, grasp, width)
         why = self.crowded(span, tip, out, width, board, level)
         if why:
@@ -447,6 +451,46 @@ class EndReader:
                         return True
                     break
         return False
+
+    def edges_go_on(self, tip: np.ndarray, inward: np.ndarray, width: float) -> bool:
+        """Whether the wire's two edges go on past the tip, with its colour between them: a line's
+        end where the wire passes in front of something that changes the contrast (a band of
+        another colour behind a hanging cable, a patch the board's estimate follows), and the
+        ridge stops while the wire does not. Across the axis, from 1 mm beyond one edge to 1 mm
+        beyond the other, the raw colour's change between neighbouring samples: its median over
+        1-4 mm in from the tip has its steepest step on each side of the axis (the wire's edges);
+        1-4 mm past the tip (the steps in the frame, four at least), the steepest step within a
+        px of each edge must stand EDGES_ON of the edge's own on each side, at the median, and
+        the axis's colour there lie nearer the wire's than EDGES_HUE of the board's beside it
+        (_own_colour). At a true end the board past it has no such edges (a conductor is
+        narrower, a shadow falls to one side, a wire across the way crosses them)."""
+        mm = self.wppm
+        side = np.array([-inward[1], inward[0]])
+        half = max(width, 0.8 * mm) / 2
+        lat = np.arange(-(half + mm), half + mm + 0.01, 0.5)
+        ds = np.arange(1.0, 4.01, 0.5) * mm
+
+        def steps(sign: float) -> tuple[np.ndarray, np.ndarray]:
+            pts = (tip + sign * ds[:, None, None] * inward + lat[None, :, None] * side).reshape(-1, 2)
+            seen = np.asarray(self._in_frame(pts).reshape(len(ds), len(lat)).all(axis=1))
+            v = self._raw(pts).reshape(len(ds), len(lat), -1)
+            return np.linalg.norm(np.diff(v, axis=1), axis=2), seen
+
+        inside, seen_in = steps(1.0)
+        past, seen_past = steps(-1.0)
+        if not seen_in.all() or np.count_nonzero(seen_past) < 4:
+            return False
+        own = np.median(inside, axis=0)
+        mid = (lat[:-1] + lat[1:]) / 2
+        past = past[seen_past]
+        for part in (np.flatnonzero(mid < 0), np.flatnonzero(mid > 0)):
+            e = int(part[np.argmax(own[part])])
+            near = past[:, max(e - 2, 0):e + 3].max(axis=1)
+            if median(near) < EDGES_ON * max(float(own[e]), 1e-9):
+                return False
+        wire, beside, _ = self._own_colour(tip, inward, width)
+        axis = (tip - ds[:, None] * inward)[seen_past]
+        return bool(median(np.linalg.norm(self._raw(axis) - wire, axis=1)) < EDGES_HUE * beside)
 
     def middle(self, p: np.ndarray, bow: float = MIDDLE_BOW):
         """A Sighting to take the wire by its middle at centre-line point p, or None (refused):
