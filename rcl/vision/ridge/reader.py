@@ -323,14 +323,14 @@ class EndReader:
             return "past its end the image has the wire's own colour: it may go on unseen"
         if not gap and self.reappears(on_axis, inward, width, level):
             return "its wire shows again past something across its end: it runs under it"
-        if not gap and self.edges_go_on(on_axis, inward, width):
-            return "past its end its two edges go on, its colour between them: it may go on unseen"
         span = self.span(full, grasp, width)
         why = self.crowded(span, tip, out, width, board, level)
         if why:
             return why
         if self.changes_colour(full, width, level):
             return "its line changes colour past the grasp point: another wire lies along it there"
+        if not gap and self.edges_go_on(on_axis, inward, width):  # (asked last: the ends still free are few)
+            return "past its end its two edges go on, its colour between them: it may go on unseen"
         clutter = self.clutter(span, tip, out, width, board)
         if not gap:
             grasp = self.centred(grasp, tangent, width)
