@@ -1609,6 +1609,21 @@ def patch_image(patch, wire=0.15, board=0.8, wire_from=20.0, ppm=4.0, size=512):
     return np.clip(img, 0, 1).astype(np.float32)
 
 
+def read_at_row64(image, x_mm):
+    """The image read as the finder reads it, and a tip on its row 64 mm at x_mm (working px; the
+    wire runs on to the right of it): (reader, tip, the wire's contrast 2-12 mm in from the tip)."""
+    from rcl.vision.ridge import _look
+
+    *_, reader = _look(image, 4.0)
+    mm = reader.wppm
+    # (row, col) in working px: input pixel p lies at (p + 0.5) / k - 0.5, and 1 mm is ppm input px
+    tip = np.array([64.0, x_mm]) * mm - 0.5 * (reader.k - 1) / reader.k
+    line = tip + np.arange(2.0, 12.0, 0.5)[:, None] * mm * np.array([0.0, 1.0])
+    level = float(np.median(reader.sample(line)))
+    assert level > 10.0  # the wire stands out where it is read
+    return reader, tip, level
+
+
 @pytest.mark.parametrize("patch, wire, board, wire_from, tip_mm, hidden", [
     (0.15, 0.15, 0.8, 20.0, 45.0, True),  # a dark wire runs on over a patch of its own colour
     (0.18, 0.15, 0.8, 20.0, 45.0, True),  # ... nearly its colour
@@ -1623,17 +1638,8 @@ def test_ridge_hidden_sees_a_wire_run_onto_a_patch_of_its_own_colour(patch, wire
     and that was taken for the cable's end. EndReader.hidden compares raw colours: past the tip,
     every point the wire's own colour (where the board beside it is not) means the wire may go
     on unseen; a board that only mixes to the wire's colour (a rim 2 mm past the tip) does not."""
-    from rcl.vision.ridge import _look
-
-    image = patch_image(patch, wire, board, wire_from)
-    *_, reader = _look(image, 4.0)
-    mm = reader.wppm
-    # (row, col) in working px: input pixel p lies at (p + 0.5) / k - 0.5, and 1 mm is ppm input px
-    tip = np.array([64.0, tip_mm]) * mm - 0.5 * (reader.k - 1) / reader.k
-    line = tip + np.arange(2.0, 12.0, 0.5)[:, None] * mm * np.array([0.0, 1.0])
-    level = float(np.median(reader.sample(line)))
-    assert level > 10.0  # the wire stands out where it is read
-    assert reader.hidden(tip, np.array([0.0, 1.0]), 2.2 * mm, level) == hidden
+    reader, tip, level = read_at_row64(patch_image(patch, wire, board, wire_from), tip_mm)
+    assert reader.hidden(tip, np.array([0.0, 1.0]), 2.2 * reader.wppm, level) == hidden
 
 
 def band_image(wire_from=20.0, shift=0.3, patch=(0.9, 0.5, 0.1), inline=None, conductor=False, across=False,
@@ -1686,18 +1692,10 @@ def test_ridge_sees_a_wires_edges_go_on_past_where_its_contrast_ends(kw, hidden,
     edges go on past the tip with its colour between them (EndReader.edges_go_on); at a true
     end, a conductor, a wire across the way or another wire's end in line, they do not, or the
     colour between them is not the wire's."""
-    from rcl.vision.ridge import _look
-
-    image = band_image(**kw)
-    *_, reader = _look(image, 4.0)
-    mm = reader.wppm
-    tip = np.array([64.0, 45.0]) * mm - 0.5 * (reader.k - 1) / reader.k
-    line = tip + np.arange(2.0, 12.0, 0.5)[:, None] * mm * np.array([0.0, 1.0])
-    level = float(np.median(reader.sample(line)))
-    assert level > 10.0
+    reader, tip, level = read_at_row64(band_image(**kw), 45.0)
     inward = np.array([0.0, 1.0])
-    assert reader.hidden(tip, inward, 2.2 * mm, level) == hidden
-    assert reader.edges_go_on(tip, inward, 2.2 * mm) == goes_on
+    assert reader.hidden(tip, inward, 2.2 * reader.wppm, level) == hidden
+    assert reader.edges_go_on(tip, inward, 2.2 * reader.wppm) == goes_on
 
 
 def test_the_readers_3x3_dilation_is_scipys():
@@ -1943,16 +1941,9 @@ def test_ridge_sees_a_wire_show_again_past_a_faint_wire_lying_over_it(cover, wir
     under one crossing it aslant (8 mm of it along the teal one's way), and a pink one shown
     again only up to the frame's edge, were taken until the test looked 10 mm on and counted
     what lies out of the frame as not the wire's colour (it gave up there before)."""
-    from rcl.vision.ridge import _look
-
     image = crossed_image(cover, wire_from, cover_mm=cover_mm, patch_from=patch_from)
-    *_, reader = _look(image, 4.0)
-    mm = reader.wppm
-    tip = np.array([64.0, cover_mm[1] + 0.1]) * mm - 0.5 * (reader.k - 1) / reader.k
-    line = tip + np.arange(2.0, 12.0, 0.5)[:, None] * mm * np.array([0.0, 1.0])
-    level = float(np.median(reader.sample(line)))
-    assert level > 10.0
-    assert reader.reappears(tip, np.array([0.0, 1.0]), 2.2 * mm, level) == reappears
+    reader, tip, level = read_at_row64(image, cover_mm[1] + 0.1)
+    assert reader.reappears(tip, np.array([0.0, 1.0]), 2.2 * reader.wppm, level) == reappears
     # and the finder: no end taken at the faint wire where the wire goes on under it (without
     # this test, both ends there were taken)
     res = find_wires_ridge(image, 4.0)
