@@ -38,7 +38,8 @@ only when what lies around it can be seen to be bare board.
    conductor the first scan took counts towards it, and its contrast is the
    conductor's; one that runs on into what looks like its end's shadow, the board's own colour
    darkened, no longer than the wire is thick, after metal of another colour, ends where that
-   begins; one that runs on to the frame's border ends there); an end at the frame border,
+   begins; one that runs on to the frame's border ends there, and one that runs on past the
+   longest conductor is none); an end at the frame border,
    or whose contrast runs on (under another wire) or fades but goes on past its tip,
    straight or bending up to 35 degrees (unless it fills the fan beyond the tip: a broad
    patch of print), or whose wire shows again in its own colour a few mm on, narrow, past

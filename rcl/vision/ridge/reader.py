@@ -631,7 +631,7 @@ class EndReader:
         whose edges are its penumbra's). The tip's scan may already have followed part of it (a bright
         conductor stands out as the insulation does, but not all the way): the narrow stretch
         just inside end counts towards its length and its contrast. One that runs on to the
-        frame's border ends there."""
+        frame's border ends there; one that runs on past TIP_MAX_MM is none."""
         from scipy import ndimage
 
         mm = self.wppm
@@ -652,6 +652,7 @@ class EndReader:
         # goes as it crosses the pixel grid (and strands or JPEG blocks break it up)
         held = ndimage.maximum_filter1d(rise, max(n // 2, 1), mode="nearest")
         on = (mean >= CONDUCTOR_CONTRAST) & (held >= 0.5 * CONDUCTOR_CONTRAST)
+        on = _bridged(on[None, :], 1)[0]  # (nor is a dip of the average itself for one step: a grain across a thin line)
         # what the scan followed: back from end, the steps where the wire stands out but narrow:
         # its flanks stand out less, as a share of its middle, than the insulation's (`flanks`,
         # the FLANK_ constants; a round wire's flanks are darker than its middle, so under 1),
@@ -683,7 +684,7 @@ class EndReader:
         short = ndimage.uniform_filter1d(rise, max(n // 2, 1), mode="nearest")
         own = float(median(short[s0:run]))
         edge = max(CONDUCTOR_CONTRAST, TIP_SHARE * own)
-        low = z + np.flatnonzero(mean[z:run] < edge)
+        low = z + np.flatnonzero(~_bridged((mean[z:run] >= edge)[None, :], 1)[0])
         if not followed:  # not in the tip's own first window (it reaches back onto the insulation)
             low = low[low >= z + n]
         i = int(low[0]) if low.size else run
@@ -703,8 +704,10 @@ class EndReader:
             inside = end - np.linspace(1.0, 3.0, 5)[:, None] * mm * out
             if self.shadow_edges(stretch, inside, out, width):
                 return end
-        if i >= run == len(steps) and framed < len(ahead):
-            return end + out * reach  # on to the frame's border
+        if i >= run == len(steps):
+            if framed < len(ahead):
+                return end + out * reach  # on to the frame's border
+            return end  # on past TIP_MAX_MM, as no conductor: the board's print or its light
         if self.line_goes_on(end + out * reach, out, width):
             return end  # a line of the board's print, not a conductor
         return end + out * reach
