@@ -1823,6 +1823,14 @@ def test_ridge_does_not_put_a_tip_in_the_shadow_the_scan_ran_on_into(kind, angle
     assert len(past) == 1 and -0.3 < past[0] < 0.5, (past, res.rejected)
 
 
+def assert_first_pick_correct(seed: int) -> None:
+    """The ridge finder's first pick on randomized tray `seed` is correct by its ground truth."""
+    tray = random_tray(seed)
+    res = find_wires_ridge(tray.image, tray.px_per_mm)
+    pick = res.candidates[0] if res.candidates else None
+    assert tray.judge(pick)[0] == "correct", tray.foul_cause(pick)
+
+
 @pytest.mark.parametrize("seed", [230019, 230198, 230474, 224317, 205506, 205805])
 def test_ridge_ends_a_conductor_where_it_runs_on_into_the_ends_shadow(seed):
     """Trays where a copper or tinned conductor is followed on into its end's shadow, which
@@ -1833,10 +1841,7 @@ def test_ridge_ends_a_conductor_where_it_runs_on_into_the_ends_shadow(seed):
     darkens it in the board's own colour too (224317), and the outer 3 mm of a ferrule or of a
     tin may look like shade where the wire is thinner than that (205506, 205805): there the tip
     stays at the metal's end, as without the rule."""
-    tray = random_tray(seed)
-    res = find_wires_ridge(tray.image, tray.px_per_mm)
-    pick = res.candidates[0] if res.candidates else None
-    assert tray.judge(pick)[0] == "correct", tray.foul_cause(pick)
+    assert_first_pick_correct(seed)
 
 
 def test_ridge_follows_a_thin_conductor_across_the_grain_of_a_wood_board():
@@ -1846,10 +1851,7 @@ def test_ridge_follows_a_thin_conductor_across_the_grain_of_a_wood_board():
     seemed to end 2 mm out, too short to be one, and the tip was put at the insulation, 5.4 mm
     short (a foul on the commit before). A dip of the average for one sample is no end, as a dip
     of the samples themselves shorter than half the window is none."""
-    tray = random_tray(205551)
-    res = find_wires_ridge(tray.image, tray.px_per_mm)
-    pick = res.candidates[0] if res.candidates else None
-    assert tray.judge(pick)[0] == "correct", tray.foul_cause(pick)
+    assert_first_pick_correct(205551)
 
 
 def test_ridge_does_not_put_a_tip_where_a_conductors_scan_runs_on_past_any_conductor():
@@ -1858,10 +1860,7 @@ def test_ridge_does_not_put_a_tip_where_a_conductors_scan_runs_on_past_any_condu
     conductor ran on along it to TIP_MAX_MM, where the tip was put: 12.9 mm past the wire's end,
     on the board (a foul on the commit before). What runs on past the longest conductor followed
     is no conductor; the tip stays at the insulation's end."""
-    tray = random_tray(242073)
-    res = find_wires_ridge(tray.image, tray.px_per_mm)
-    pick = res.candidates[0] if res.candidates else None
-    assert tray.judge(pick)[0] == "correct", tray.foul_cause(pick)
+    assert_first_pick_correct(242073)
 
 
 @pytest.mark.parametrize("angle", [20.0, 100.0, 200.0])
