@@ -1208,6 +1208,40 @@ def test_ridge_graph_finds_the_end_of_a_line_that_ends_in_a_small_cross():
     assert tray.judge(res.candidates[0] if res.candidates else None)[0] == "correct"
 
 
+def test_ridge_graph_finds_the_end_of_a_line_that_ends_in_a_small_ring():
+    """A ridge whose end forks round two pixels leaves, once thinned and pruned, a ring round a
+    hole two pixels wide at the line's end: every pixel of it has two neighbours or more, no pixel
+    is an end and the wire's end is never read (tray 243387: a striped wire alone on a wood board,
+    its only graspable end, missed). The ring is filled and thinned again, and the line ends
+    there. A ladder of such rings along a line (two ridges 2 px apart on one wire), which
+    filling leaves with no new end, is left as it is."""
+    from rcl.vision.ridge.graph import Graph
+
+    sk = np.zeros((40, 60), bool)
+    sk[20, 10:50] = True  # a line from column 10 to 49 ...
+    sk[20, 7:10] = False
+    sk[19, 7:9] = sk[21, 7:9] = sk[20, 6] = True  # ... its end a ring round (20, 7) and (20, 8)
+    sk[20, 9] = True
+    g = Graph(sk, 2.5)
+    assert sorted(g.rc(int(i)) for i in g.ends()) == [(20, 49)]  # (the ring as it is: no end there)
+    g.prune_spurs()
+    ends = sorted(g.rc(int(i)) for i in g.ends())
+    assert len(ends) == 2 and ends[0][0] in (19, 20, 21) and 6 <= ends[0][1] <= 9 and ends[1] == (20, 49)
+    path, how = g.trace(int(g.ends()[0]), 100.0)
+    assert how == "end" and len(path) >= 38
+    # rings in the middle of a line are not ends, and stay
+    sk = np.zeros((40, 60), bool)
+    sk[20, 5:55] = True
+    for c in (20, 30):
+        sk[20, c:c + 2] = False
+        sk[19, c:c + 2] = sk[21, c:c + 2] = True
+    g = Graph(sk, 2.5)
+    g.prune_spurs()
+    assert sorted(g.rc(int(i)) for i in g.ends()) == [(20, 5), (20, 54)]
+    assert not g.skeleton[20, 20] and not g.skeleton[20, 31]
+    assert_first_pick_correct(243387)
+
+
 @pytest.mark.parametrize("side_px, back_px, way, jumps", [
     (4, 2, 1, True), (4, -3, 1, True), (2, 0, 1, True), (-4, 2, 1, True),  # stepped aside, level, overlapping or past
     (4, 2, -1, False),  # the piece beside goes back the way the line came: another wire's end

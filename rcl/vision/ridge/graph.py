@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from .lines import MIN_LINE_MM, NEIGHBOURS, _cut_corners, _trim_crosses, minimal, small_holes, thin_sparse
+from .lines import MIN_LINE_MM, NEIGHBOURS, _cut_corners, _trim_crosses, end_rings, minimal, small_holes, thin_sparse
 
 SPAN_MM = 20.0  # wire that must be free from the tip: the grasp point and 5 mm beyond
 SPUR_MM = 3.0  # branches this short that end at a crossing are whiskers
@@ -98,6 +98,10 @@ class Graph:
                 self.flat[path[:-1] if len(path) > 1 else path] = False
         _cut_corners(self.flat, self.W)  # a whisker gone may leave a corner where it joined
         _trim_crosses(self.flat, self.W)  # ... or the stub of one next to the stubs of others
+        grid = self.skeleton.astype(bool)
+        mended = end_rings(grid)
+        if mended is not grid:
+            self.flat = np.pad(mended, 1).ravel().copy()
         self._count()
 
     def across_gap(self, path: list[int]) -> int | None:

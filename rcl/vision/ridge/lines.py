@@ -136,6 +136,34 @@ def centre_lines(strength: np.ndarray, smoothed: list, which: np.ndarray, wppm: 
     return minimal(thin_sparse(lines))
 
 
+def end_rings(lines: np.ndarray) -> np.ndarray:
+    """The thinned lines with each ring round a hole of a pixel or two (small_holes) filled and
+    thinned again where that gives a line an end the ring had hidden: a wire's end whose ridge
+    forked there. Rings with no end once filled (a ladder of them along a wire with a specular
+    line, a loop) are left as they are."""
+    from scipy import ndimage
+
+    ring = small_holes(lines)
+    if not ring.any():
+        return lines
+    filled = minimal(thin_sparse(lines | ring))
+    kernel = np.ones((3, 3))
+    kernel[1, 1] = 0
+
+    def ends(mask: np.ndarray) -> np.ndarray:
+        return mask & (ndimage.convolve(mask.astype(np.uint8), kernel, mode="constant") == 1)
+
+    before, after = ends(lines), ends(filled)
+    out = lines.copy()
+    h, w = lines.shape
+    for box in ndimage.find_objects(ndimage.label(ring, np.ones((3, 3)))[0]):
+        win = (slice(max(box[0].start - 3, 0), min(box[0].stop + 3, h)),
+               slice(max(box[1].start - 3, 0), min(box[1].stop + 3, w)))
+        if after[win].any() and not before[win].any():
+            out[win] = filled[win]
+    return out
+
+
 def _crest(flat: np.ndarray, cand: np.ndarray, step: np.ndarray) -> np.ndarray:
     """Which candidates (flat indices into a padded grid) are a crest across the ridge: no less
     than the neighbour one step across it, more than the one the other way."""
