@@ -280,9 +280,12 @@ def _static(watcher: RunWatcher, cell, times: list[float], tips: list, base: np.
             line = [_r([mouth[i], die.target[i]]) for i in range(3)]
             stations.append({"name": "press (die)", "at": _r(die.target), "line": line})
     s["stations"] = stations
-    picks = []
+    picks: list[dict[str, Any]] = []
     for e in cell.events:
         if e.what != "pick" or not tips:
+            continue
+        if e.slip and picks:  # the wire taken slipped out on the way: that pick failed, where it was taken
+            picks[-1].update(ok=False, text=outcome_text(e))
             continue
         i = _state_at(times, e.time_s)
         picks.append({"at": tips[i], "ok": e.ok, "text": outcome_text(e), "look": watcher.look_number(e.look)})

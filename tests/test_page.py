@@ -214,6 +214,32 @@ def test_the_main_jobs_page_tells_what_the_report_and_stdout_tell(main_job):
 
 
 @pytest.mark.slow
+@pytest.mark.slow
+def test_a_wire_that_slips_out_of_the_fingers_marks_its_pick_failed_not_a_new_one(tmp_path):
+    """A taken wire that slips out of the fingers on the way to the press is a failed pick in
+    the report, but no new attempt: the page keeps one marker per pick tried (as the summary
+    counts them) and marks that one failed, in the slip's words."""
+    import contextlib
+
+    cell = tmp_path / "slippy.toml"
+    sim = (ROOT / "rcl" / "cell" / "sim.toml").read_text()
+    cell.write_text(re.sub(r"(?m)^drop_rate = [0-9.]+", "drop_rate = 0.3", sim))
+    report = tmp_path / "report.json"
+    with contextlib.redirect_stdout(io.StringIO()):
+        code = main(["run", str(ROOT / "examples" / "crimp.rcl"), "--cell", str(cell), "--seed", "5",
+                     "--page", str(tmp_path / "out"), "--report", str(report)])
+    assert code == 0
+    r = json.loads(report.read_text())
+    slipped = [f["why"] for f in r["failures"] if "slipped out of the fingers" in f["why"]]
+    assert slipped
+    d = embedded(tmp_path / "out" / "index.html")
+    picks = d["static"]["picks"]
+    assert len(picks) == r["attempts"] == d["summary"]["picks"]
+    failed = [p["text"] for p in picks if not p["ok"]]
+    assert len(failed) == sum(f["what"] == "pick" for f in r["failures"])
+    assert [t for t in failed if "slipped" in t] == [f"pick failed: {why}" for why in slipped]
+
+
 def test_the_main_jobs_page_draws_in_a_browser(main_job, tmp_path):
     out, report, _ = main_job
     with browser() as b:

@@ -100,6 +100,7 @@ class Event:
     why: str = ""
     time_s: float = 0.0
     off_mm: float | None = None  # a pick: how far from the wire's centre line the fingers closed
+    slip: bool = False  # a failed pick that is no new attempt: the wire taken slipped out on the way
 
     def as_dict(self) -> dict:
         d = {"what": self.what, "ok": self.ok, "wire": self.wire, "look": self.look, "why": self.why,
@@ -276,11 +277,14 @@ class SimCell:
             return
         h.carried = True
         if self.rng.random() < self.g["drop_rate"]:
-            self._fall("pick", "slipped out of the fingers")
+            e = self._fall("pick", "slipped out of the fingers")
+            if e.what == "pick":
+                e.slip = True
 
-    def _fall(self, what: str, how: str, meant: bool = False) -> None:
+    def _fall(self, what: str, how: str, meant: bool = False) -> Event:
         """The held wire falls: onto the tray if it is over it, else out of the cell. meant: it
-        was let go there on purpose (laid back to be taken afresh), which is no failure."""
+        was let go there on purpose (laid back to be taken afresh), which is no failure. The
+        event it makes."""
         h = self.held
         assert h is not None, "no wire is held to fall"
         self.held = None
@@ -289,16 +293,13 @@ class SimCell:
             held_at = _held_at(h)
             if held_at is not None:  # held by its middle, it hung from the fingers: it lands anew
                 self.tray.drape(h.wire, h.body, pts[held_at], held_at * 0.25)
-                self._event("drop", True, h.wire)
-                return
+                return self._event("drop", True, h.wire)
             self.tray.put(h.wire, self.tray.kept_on(pts[::2]), h.body)
             if meant:
-                self._event("putback", True, h.wire)
-            else:
-                self._event(what, False, h.wire, f"wire {h.wire} {how} and fell back on the tray")
-        else:
-            self.results[h.wire] = "lost"
-            self._event(what, False, h.wire, f"wire {h.wire} {how} and fell off the tray")
+                return self._event("putback", True, h.wire)
+            return self._event(what, False, h.wire, f"wire {h.wire} {how} and fell back on the tray")
+        self.results[h.wire] = "lost"
+        return self._event(what, False, h.wire, f"wire {h.wire} {how} and fell off the tray")
 
     def opened(self) -> None:
         h = self.held
