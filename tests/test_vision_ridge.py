@@ -1213,8 +1213,9 @@ def test_ridge_graph_finds_the_end_of_a_line_that_ends_in_a_small_ring():
     hole two pixels wide at the line's end: every pixel of it has two neighbours or more, no pixel
     is an end and the wire's end is never read (tray 243387: a striped wire alone on a wood board,
     its only graspable end, missed). The ring is filled and thinned again, and the line ends
-    there. A ladder of such rings along a line (two ridges 2 px apart on one wire), which
-    filling leaves with no new end, is left as it is."""
+    there; so for a hole of up to four pixels of any shape (230903). A ladder of such rings along
+    a line (two ridges 2 px apart on one wire), which filling leaves with no new end, is left as
+    it is."""
     from rcl.vision.ridge.graph import Graph
 
     sk = np.zeros((40, 60), bool)
@@ -1229,6 +1230,16 @@ def test_ridge_graph_finds_the_end_of_a_line_that_ends_in_a_small_ring():
     assert len(ends) == 2 and ends[0][0] in (19, 20, 21) and 6 <= ends[0][1] <= 9 and ends[1] == (20, 49)
     path, how = g.trace(int(g.ends()[0]), 100.0)
     assert how == "end" and len(path) >= 38
+    # a ring round an L of three pixels (HOLE_PX 4) at a line's end, likewise
+    sk = np.zeros((40, 60), bool)
+    sk[20, 10:50] = True
+    for r, c in ((20, 6), (19, 7), (18, 8), (19, 9), (20, 9), (21, 8), (21, 7)):
+        sk[r, c] = True
+    g = Graph(sk, 2.5)
+    assert sorted(g.rc(int(i)) for i in g.ends()) == [(20, 49)]
+    g.prune_spurs()
+    ends = sorted(g.rc(int(i)) for i in g.ends())
+    assert len(ends) == 2 and ends[0][0] == 20 and 6 <= ends[0][1] <= 9 and ends[1] == (20, 49)
     # rings in the middle of a line are not ends, and stay
     sk = np.zeros((40, 60), bool)
     sk[20, 5:55] = True
@@ -1240,6 +1251,7 @@ def test_ridge_graph_finds_the_end_of_a_line_that_ends_in_a_small_ring():
     assert sorted(g.rc(int(i)) for i in g.ends()) == [(20, 5), (20, 54)]
     assert not g.skeleton[20, 20] and not g.skeleton[20, 31]
     assert_first_pick_correct(243387)
+    assert_first_pick_correct(230903)
 
 
 @pytest.mark.parametrize("side_px, back_px, way, jumps", [

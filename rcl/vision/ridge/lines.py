@@ -11,6 +11,7 @@ RIDGE_LOW = 0.9
 FAINT_SHARE = 0.85  # a picture with no ridge at RIDGE_HIGH (a two-tone board's pattern makes the spread the tones'
 FAINT_FLOOR = 1.4  # difference): the high threshold falls to this share of its strongest ridge, not below the floor
 MIN_LINE_MM = 10.0  # shorter centre-line pieces are noise, texture or too short to take
+HOLE_PX = 4  # a ring round a hole of no more pixels than this may hide a line's end (end_rings)
 # 8-neighbour offsets (row, col), clockwise from E
 NEIGHBOURS = ((0, 1), (1, 1), (1, 0), (1, -1), (0, -1), (-1, -1), (-1, 0), (-1, 1))
 
@@ -137,15 +138,19 @@ def centre_lines(strength: np.ndarray, smoothed: list, which: np.ndarray, wppm: 
 
 
 def end_rings(lines: np.ndarray) -> np.ndarray:
-    """The thinned lines with each ring round a hole of a pixel or two (small_holes) filled and
-    thinned again where that gives a line an end the ring had hidden: a wire's end whose ridge
-    forked there. Rings with no end once filled (a ladder of them along a wire with a specular
-    line, a loop) are left as they are."""
+    """The thinned lines with each ring round a hole of up to HOLE_PX pixels filled and thinned
+    again where that gives a line an end the ring had hidden: a wire's end whose ridge forked
+    there. Rings with no end once filled (a ladder of them along a wire with a specular line, a
+    loop) are left as they are."""
     from scipy import ndimage
 
-    ring = small_holes(lines)
-    if not ring.any():
+    holes, n = ndimage.label(~lines)  # (4-connected: the lines are 8-connected)
+    small = np.bincount(holes.ravel(), minlength=n + 1) <= HOLE_PX
+    small[0] = False
+    small[np.concatenate([holes[0], holes[-1], holes[:, 0], holes[:, -1]])] = False  # (open to the frame)
+    if not small.any():
         return lines
+    ring = small[holes]
     filled = minimal(thin_sparse(lines | ring))
     kernel = np.ones((3, 3))
     kernel[1, 1] = 0
