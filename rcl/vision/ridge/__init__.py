@@ -50,7 +50,9 @@ only when what lies around it can be seen to be bare board.
    CLEARANCE_MM disc round the grasp point (room for the fingers); a faint band only
    next to the wire, along much of the span, is its own flank or shadow, a point beside it
    that falls on the wire itself (where its line hooks, at an end cut aslant) is the wire, and
-   a speck of the board's texture (no more than SPECK_MM across) is no obstacle. An end refused
+   a speck of the board's texture (no more than SPECK_MM across, traced at half the threshold;
+   on a board strewn with specks, SPECKLED a square cm or more, 3 mm traced at the threshold,
+   as there specks run into each other at half of it) is no obstacle. An end refused
    for something beside it or in that disc is read again as one edge of a wire whose
    body does not stand out (a white wire on a white board: its two shaded sides), if
    another line runs beside it at a steady distance and the two end together; then as wide as

@@ -80,6 +80,9 @@ BEND_RAYS = 1  # ... in three neighbouring rays of the fan (17.5 degrees apart) 
 RUN_MM = 0.6  # beside the span: contrast this long along the wire is something there
 SPECK_MM = 2.0  # ... unless it is a speck of the board's texture: no larger than this across
 SPECK_TRACE = 0.5  # ... where its contrast is this share of the threshold for a thing there
+SPECKLED = 5.0  # a board strewn with specks: this many a square cm over BOARD_FLOOR, each no more than SPECK_MM
+# across (specks(); other boards count 0-0.2 at the median, a cutting mat up to 4.5); there a speck is traced at
+SPECKLED_SPECK = (1.0, 3.0)  # this share of the threshold and may be this large (mm): at half, specks run together
 EDGE_SHARE = 0.5  # ... unless only in the band nearest the wire, fainter than this share of it
 EDGE_SPREAD_MM = 5.0  # ... and spread along this much of the span at least (not one thing in one place)
 CAP_HITS = 3  # beyond the tip and round the grasp point: so many samples with contrast are something
@@ -147,6 +150,7 @@ class EndReader:
         self.shadows = False  # whether shadows round the wire being read are told from things (set by read)
         self.outside = outside  # what lies off the tray (find_rim), if known
         self.rim = None  # how far (working px) each pixel lies from a rim or bench the frame shows, if any
+        self._speck: tuple[float, float] | None = None  # how specks are traced and how large (speck())
         if outside is not None and outside.any():
             from scipy import ndimage
 
@@ -159,6 +163,16 @@ class EndReader:
         r = np.clip(np.round(pts[:, 0]).astype(int), 0, self.h - 1)
         c = np.clip(np.round(pts[:, 1]).astype(int), 0, self.w - 1)
         return self.rim[r, c] < margin
+
+    def speck(self) -> tuple[float, float]:
+        """How a speck of the board's texture is traced (a share of the threshold) and how large
+        it may be (mm): SPECK_TRACE and SPECK_MM, or on a board strewn with specks (SPECKLED or
+        more a square cm), where a speck's halo at half the threshold runs into its neighbours',
+        SPECKLED_SPECK."""
+        if self._speck is None:
+            self._speck = SPECKLED_SPECK if specks(self.f, self.wppm, self.outside) >= SPECKLED \
+                else (SPECK_TRACE, SPECK_MM)
+        return self._speck
 
     def refuse(self, at, why: str) -> None:
         r, c = at
@@ -1053,7 +1067,7 @@ class EndReader:
             if not seen.any():
                 continue
             for a, b in _stretches(seen):  # each stretch of hits, rows a to b - 1
-                if b - a > SPECK_MM * mm or not _runs_on(runs[a:b, k:k + 1, :], need):
+                if b - a > self.speck()[1] * mm or not _runs_on(runs[a:b, k:k + 1, :], need):
                     continue
                 specks = self._specks(band[(a + b - 1) // 2, k, 1], 3.0 * mm, line, half, board, level)
                 if specks(band[a:b, k].reshape(-1, 2))[runs[a:b, k, :].reshape(-1)].all():
@@ -1075,7 +1089,8 @@ class EndReader:
         grid = np.mgrid[r0:r0 + size, c0:c0 + size].reshape(2, -1).T.astype(float)
         near = line[(np.abs(line - at) <= radius + half + mm).all(axis=1)]
         seen = self._seen(grid)
-        on = seen >= SPECK_TRACE * board  # (a faint wire's pieces over the threshold joined)
+        trace, most = self.speck()
+        on = seen >= trace * board  # (a faint wire's pieces over the threshold joined)
         if len(near):  # (what stands out more than the wire does there is not the wire)
             d2 = ((grid[:, None, :] - near[None, :, :]) ** 2).sum(axis=2).min(axis=1)
             on &= (d2 > (half + 0.5 * mm) ** 2) | (seen > level)
@@ -1085,7 +1100,7 @@ class EndReader:
             if box is None or box[0].start == 0 or box[1].start == 0 or box[0].stop == size or box[1].stop == size:
                 continue
             rc = np.argwhere(pieces[box] == i)
-            small[i] = bool((((rc - rc.mean(axis=0)) ** 2).sum(axis=1) <= (SPECK_MM / 2 * mm) ** 2).all())
+            small[i] = bool((((rc - rc.mean(axis=0)) ** 2).sum(axis=1) <= (most / 2 * mm) ** 2).all())
         speck = _grown(small[pieces]) if small.any() else np.zeros((size, size), bool)  # (a sample between pixels)
 
         def on_speck(pts: np.ndarray) -> np.ndarray:
@@ -1182,6 +1197,29 @@ def unsteadiness(widths: np.ndarray) -> float:
     if len(r) < 3:
         return float(r[-1] - r[0]) if len(r) else 0.0
     return float(min(r[-1] - r[0], OUTLIER_SPREAD * (r[-1] - r[1])))
+
+
+def specks(f: np.ndarray, wppm: float, outside: np.ndarray | None = None) -> float:
+    """How many specks a square cm of the tray holds: places where the contrast f stands
+    BOARD_FLOOR or more, each no more than SPECK_MM across (8-connected), over the area not
+    `outside` it."""
+    from scipy import ndimage
+
+    on = f >= BOARD_FLOOR
+    if outside is not None:
+        on &= ~outside
+    pieces, count = ndimage.label(on, np.ones((3, 3)))
+    if not count:
+        return 0.0
+    r, c = np.nonzero(pieces)
+    order = np.argsort(pieces[r, c], kind="stable")
+    r, c = r[order], c[order]
+    first = np.flatnonzero(np.diff(pieces[r, c], prepend=0))  # where each piece's pixels start
+    tall = np.maximum.reduceat(r, first) - np.minimum.reduceat(r, first) + 1
+    wide = np.maximum.reduceat(c, first) - np.minimum.reduceat(c, first) + 1
+    small = int(np.count_nonzero((tall <= SPECK_MM * wppm) & (wide <= SPECK_MM * wppm)))
+    area = (on.size - (np.count_nonzero(outside) if outside is not None else 0)) / (10.0 * wppm) ** 2
+    return small / max(area, 1e-9)
 
 
 def _across_tip(width: float, mm: float) -> np.ndarray:
