@@ -232,8 +232,9 @@ def test_ctrl_c_while_checking_or_seeing_ends_with_130_and_a_message(tmp_path):
 
     (tmp_path / "big.rcl").write_text("x := 1\n" * 300_000)  # ~8 s of checking: Ctrl-C comes well before its end
     for args in (["check", str(tmp_path / "big.rcl")], ["run", str(tmp_path / "big.rcl")]):
+        # as from a terminal: a job started in the background inherits SIGINT ignored, and rcl keeps it so
         proc = subprocess.Popen([sys.executable, "-m", "rcl", *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                text=True)
+                                text=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
         time.sleep(3.0)  # (past start-up's imports, which take over 1.5 s on a busy machine)
         proc.send_signal(signal.SIGINT)
         _out, err = proc.communicate(timeout=60)
