@@ -664,13 +664,13 @@ def test_ridge_takes_ends_on_a_board_strewn_with_specks():
     """On a board strewn with specks, the specks beside a wire run into each other at half the
     threshold, in pieces larger than the speck test's 2 mm: the only free end was refused as
     something beside it (trays 205096, 242864, 243606; here 3 of 16 boards taken). Where the
-    board holds over SPECKLED specks a square cm (`specks`), they are traced at the threshold
+    board holds over SPECKLED specks a square cm (`specks_per_cm2`), they are traced at the threshold
     and may be 3 mm across (SPECKLED_SPECK): 8 of 16. A board with few specks is read as before
     (a faint wire touching the one read breaks into pieces at the threshold: trays 230902,
     230904). Left as it is: a speck that touches the tip may bend the end's line towards it,
     its direction 25-45 degrees off (3 of these 16 boards, 1 before)."""
     from rcl.vision.ridge.contrast import contrast
-    from rcl.vision.ridge.reader import SPECKLED, specks
+    from rcl.vision.ridge.reader import SPECKLED, specks_per_cm2
 
     tip = np.array([64.0, 64.0])
     taken = 0
@@ -681,11 +681,11 @@ def test_ridge_takes_ends_on_a_board_strewn_with_specks():
         taken += any(np.linalg.norm(np.array(s.end) / 4.0 - tip) < 0.6 for s in res.candidates)
         if seed < 2:
             work, k = working_image(image, 4.0)
-            assert specks(contrast(work, 4.0 / k, None, k).f, 4.0 / k) > SPECKLED
+            assert specks_per_cm2(contrast(work, 4.0 / k, None, k).f, 4.0 / k) > SPECKLED
     assert taken >= 6
     sparse = straight_wire_image(0.0, tip_mm=tuple(tip), under=strewn_with_specks(0, 1 / 100.0))[0]
     work, k = working_image(sparse, 4.0)
-    assert specks(contrast(work, 4.0 / k, None, k).f, 4.0 / k) < SPECKLED
+    assert specks_per_cm2(contrast(work, 4.0 / k, None, k).f, 4.0 / k) < SPECKLED
 
 
 @pytest.mark.parametrize("gap_mm, along_mm", [(0.4, 5.0), (0.4, 9.0), (0.7, 5.0), (0.7, 9.0), (2.9, 9.0)])

@@ -81,7 +81,7 @@ RUN_MM = 0.6  # beside the span: contrast this long along the wire is something 
 SPECK_MM = 2.0  # ... unless it is a speck of the board's texture: no larger than this across
 SPECK_TRACE = 0.5  # ... where its contrast is this share of the threshold for a thing there
 SPECKLED = 5.0  # a board strewn with specks: this many a square cm over BOARD_FLOOR, each no more than SPECK_MM
-# across (specks(); other boards count 0-0.2 at the median, a cutting mat up to 4.5); there a speck is traced at
+# across (specks_per_cm2(); other boards count 0-0.3 at the median, a cutting mat up to 4.5); there a speck is traced at
 SPECKLED_SPECK = (1.0, 3.0)  # this share of the threshold and may be this large (mm): at half, specks run together
 EDGE_SHARE = 0.5  # ... unless only in the band nearest the wire, fainter than this share of it
 EDGE_SPREAD_MM = 5.0  # ... and spread along this much of the span at least (not one thing in one place)
@@ -170,7 +170,7 @@ class EndReader:
         more a square cm), where a speck's halo at half the threshold runs into its neighbours',
         SPECKLED_SPECK."""
         if self._speck is None:
-            self._speck = SPECKLED_SPECK if specks(self.f, self.wppm, self.outside) >= SPECKLED \
+            self._speck = SPECKLED_SPECK if specks_per_cm2(self.f, self.wppm, self.outside) >= SPECKLED \
                 else (SPECK_TRACE, SPECK_MM)
         return self._speck
 
@@ -1199,7 +1199,7 @@ def unsteadiness(widths: np.ndarray) -> float:
     return float(min(r[-1] - r[0], OUTLIER_SPREAD * (r[-1] - r[1])))
 
 
-def specks(f: np.ndarray, wppm: float, outside: np.ndarray | None = None) -> float:
+def specks_per_cm2(f: np.ndarray, wppm: float, outside: np.ndarray | None = None) -> float:
     """How many specks a square cm of the tray holds: places where the contrast f stands
     BOARD_FLOOR or more, each no more than SPECK_MM across (8-connected), over the area not
     `outside` it."""
