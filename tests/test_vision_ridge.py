@@ -1828,6 +1828,29 @@ def test_ridge_follows_a_bright_conductor_to_its_tip_when_the_tips_scan_took_its
     assert len(near) == 1 and np.linalg.norm(near[0] - start) < 1.0, (ends, start)
 
 
+def test_ridge_follows_a_faint_thin_conductor_in_the_inputs_own_pixels(monkeypatch):
+    """A black wire 1 mm thick stripped to 6 mm of tinned conductor, a grey a little lighter than
+    the board, at 5 px/mm. The working image (blocks of 2 x 2) blurs the conductor, half a mm
+    across, into the board's noise, so conductor() does not follow it and the end was taken at the
+    insulation's cut, 4.5-4.9 mm short, on 7 of these 10 (a foul: trays 230514, 243242, 247539's
+    kind); in the input's pixels it is a line 2-3 px wide, followed to its tip (fine.follow). The
+    same images read with no finer reading (FINE_SCALE out of reach) show the test can fail."""
+    from rcl.vision.ridge import reader
+
+    def found() -> int:
+        hits = 0
+        for seed in range(5):
+            for angle, start in ((75.0, np.array([40.0, 25.0])), (120.0, np.array([70.0, 25.0]))):
+                image = one_wire_with_a_tip(start, angle, 1.0, (0.15, 0.15, 0.15), 6.0, (0.62,) * 3, 5.0, seed=seed)
+                ends = [np.array(s.end) / 5.0 for s in find_wires_ridge(image, 5.0).candidates]
+                hits += any(np.linalg.norm(e - start) < 1.0 for e in ends)
+        return hits
+
+    assert found() >= 7
+    monkeypatch.setattr(reader, "FINE_SCALE", 99.0)
+    assert found() <= 4
+
+
 @pytest.mark.parametrize("ppm,width_mm,inside_mm", [(4.3, 2.0, 4.0), (4.3, 2.0, 5.0), (7.77, 0.9, 6.0),
                                                      (4.3, 1.5, 3.0), (5.0, 2.5, 5.0)])
 def test_ridge_refuses_an_end_whose_conductor_runs_off_the_frame(ppm, width_mm, inside_mm):

@@ -39,7 +39,8 @@ only when what lies around it can be seen to be bare board.
    conductor's; one that runs on into what looks like its end's shadow, the board's own colour
    darkened, no longer than the wire is thick, after metal of another colour, ends where that
    begins; one that runs on to the frame's border ends there, and one that runs on past the
-   longest conductor is none); an end at the frame border,
+   longest conductor is none; where the working image shows none and averages the input 1.5
+   times or more, a thin one is sought in the input's own pixels, fine.py); an end at the frame border,
    or whose contrast runs on (under another wire) or fades but goes on past its tip,
    straight or bending up to 35 degrees (unless it fills the fan beyond the tip: a broad
    patch of print), or whose wire shows again in its own colour a few mm on, narrow, past
@@ -248,7 +249,9 @@ def _look(image: np.ndarray, px_per_mm: float, k: float | None = None, first: En
     graph.prune_spurs()
     result.skeleton = graph.skeleton
     clock("graph")
-    reader = EndReader(con, flat, each[0], graph, wppm, k, result, outside)
+    reader = EndReader(con, flat, each[0], graph, wppm, k, result, outside, image)
+    if first is not None:
+        reader._image = first._image  # (the input as float, if the first reading made it)
     return result, clock, began, graph, reader
 
 

@@ -16,6 +16,7 @@ import numpy as np
 from ..common import FRAME_MARGIN_MM, GRASP_MM, median, principal_direction
 from ..sighting import Sighting
 from .contrast import Contrast, _corners, _mix, bilinear, light_and_tint, shadow_free
+from .fine import follow as follow_in_input
 from .graph import SPAN_MM, Graph
 from .rim import RIM_EDGE_MM
 
@@ -36,6 +37,10 @@ SPAN_SLACK_MM = 2.0  # ... along the span and this much more: a wire crossing ju
 SHADOW_LIKE_WIRE = 0.2  # a wire this much of whose centre line looks like shadow: shadows are not told from it
 SHADOW_SIDE = 0.3  # ... and one that casts one: so much of the board along one side of it looks like shadow
 TIP_MAX_MM = 12.0  # the longest ferrule or stripped conductor followed past the insulation
+FINE_BLUR = 4.0  # ... reaching this many times as far as the insulation's edges are soft (softness())
+FINE_LAST_MM, FINE_OWN_MM = (0.5, 2.0), (5.0, 12.0)  # ... if the wire's last mm are of its colour further in
+FINE_SCALE = 1.5  # where the working image averages the input this much or more (4 px/mm and up), a conductor
+# it does not show is sought in the input's own pixels (fine.py)
 CONDUCTOR_RIDGE = 1.5  # the finest scale's ridge strength that marks a thin conductor
 CONDUCTOR_CONTRAST = 1.2  # a faint conductor: its axis this far (spreads) above the board beside it
 CONDUCTOR_MIN_MM = 2.5  # ... at least this long (a shorter one is the blur or the shadow of the end)
@@ -136,7 +141,7 @@ class EndReader:
     """Reads one centre-line end: classify it, follow its tip, check it is free, make a Sighting."""
 
     def __init__(self, con: Contrast, flat: np.ndarray, fine: np.ndarray, graph: Graph, wppm: float, k: float,
-                 result: RidgeResult, outside: np.ndarray | None = None) -> None:
+                 result: RidgeResult, outside: np.ndarray | None = None, source: np.ndarray | None = None) -> None:
         self.con = con
         self.f = con.f  # the contrast
         self.g = graph
@@ -151,6 +156,8 @@ class EndReader:
         self.outside = outside  # what lies off the tray (find_rim), if known
         self.rim = None  # how far (working px) each pixel lies from a rim or bench the frame shows, if any
         self._speck: tuple[float, float] | None = None  # how specks are traced and how large (speck())
+        self.source = source  # the input image, if given (fine_conductor reads it)
+        self._image: np.ndarray | None = None  # ... as float (rows, cols, channels), once asked for
         if outside is not None and outside.any():
             from scipy import ndimage
 
@@ -295,6 +302,8 @@ class EndReader:
         tip = np.array([np.interp(tip_s, es, ext[:, 0]), np.interp(tip_s, es, ext[:, 1])])
         insulation = tip
         tip = self.conductor(tip, out, width, lambda: self.flanks(line, arc, width))
+        if not gap and np.all(tip == insulation):  # none seen here: one too thin or faint for the working image?
+            tip = self.fine_conductor(insulation, out, width, level)
         r, c = tip
         if r < border or c < border or r > self.h - 1 - border or c > self.w - 1 - border:
             return "its end is at the frame's border"
@@ -725,6 +734,47 @@ class EndReader:
         if self.line_goes_on(end + out * reach, out, width):
             return end  # a line of the board's print, not a conductor
         return end + out * reach
+
+    def fine_conductor(self, end: np.ndarray, out: np.ndarray, width: float, level: float) -> np.ndarray:
+        """The tip of a thin conductor past the insulation's end `end` that the working image
+        blurs away, followed in the input's own pixels (fine.py), or end itself if there is
+        none, if the input has no more pixels than the working image (below FINE_SCALE), or if
+        what the scan took for the insulation's end is metal already: the wire's last FINE_LAST_MM
+        has a colour COLOUR_CHANGE of its contrast from every colour it has FINE_OWN_MM in (a bright
+        tin or ferrule the scan ran on along; past it, a line or speck would be taken for more)."""
+        if self.source is None or self.k < FINE_SCALE:
+            return end
+        mm = self.wppm
+        last = end - np.linspace(FINE_LAST_MM[0], FINE_LAST_MM[1], 4)[:, None] * mm * out
+        own = end - np.arange(FINE_OWN_MM[0], FINE_OWN_MM[1] + 0.01, 0.5)[:, None] * mm * out
+        pts = np.vstack([last, own])
+        if not self._in_frame(pts).all():
+            return end
+        colours = self._raw(pts)
+        tipward = np.median(colours[:len(last)], axis=0)
+        if float(np.linalg.norm(colours[len(last):] - tipward, axis=1).min()) > COLOUR_CHANGE * level:
+            return end
+        if self._image is None:
+            img = np.asarray(self.source, np.float32)
+            if img.max() > 1.5:  # (8-bit levels: fine.follow takes colours 0-1)
+                img = img * np.float32(1.0 / 255.0)
+            self._image = img if img.ndim == 3 else img[:, :, None]
+        k = self.k
+        tip = follow_in_input(self._image, (end + 0.5) * k - 0.5, out, width * k, self.wppm * k,
+                          CONDUCTOR_MIN_MM, TIP_MAX_MM)
+        if tip is None:
+            return end
+        tip = (tip + 0.5) / k - 0.5
+        reach = float(np.linalg.norm(tip - end))
+        inside = end - np.linspace(1.0, 3.0, 5)[:, None] * mm * out
+        soft = self.softness(inside, out, width)
+        if reach < FINE_BLUR * soft:  # no further than the halo of a blurred end and its soft shadow reach
+            return end
+        if reach <= SOFT_REACH_MM * mm:  # as conductor(): a stretch no longer than an end's shadow, with edges
+            stretch = end + np.linspace(0.3, 0.8, 5)[:, None] * reach * out  # softer than the insulation's
+            if self.softness(stretch, out, width) > SOFT_EDGES * soft:
+                return end
+        return tip
 
     def out_of_shade(self, end: np.ndarray, out: np.ndarray, width: float, reach: float) -> float:
         """A conductor's reach (working px past the insulation's end `end`) taken back to where
