@@ -1056,11 +1056,12 @@ def test_ridge_puts_first_the_best_free_end_that_both_other_scales_find_free(mon
         assert got[0] == first and sorted(got, key=lambda s: -s.score) == plain
 
 
-@pytest.mark.parametrize("seed, before", [(206211, "foul"), (203891, "foul")])
+@pytest.mark.parametrize("seed, before", [(206211, "correct"), (203891, "foul")])
 def test_ridge_takes_an_end_the_other_scales_confirm_over_a_roomier_one_they_do_not(seed, before):
     # development trays where the roomiest free end was a foul (206211: a tinned conductor not
-    # seen at the working scale, the tip put 3.4 mm short; 203891: an end touching another wire)
-    # and the next one, which the coarser and the finer reading also find free, correct
+    # seen at the working scale, the tip put 3.4 mm short, which the reading in the input's own
+    # pixels now follows to its end; 203891: an end touching another wire) and the next one,
+    # which the coarser and the finer reading also find free, correct
     tray = random_tray(seed)
     plain = find_wires_ridge(tray.image, tray.px_per_mm, confirm=False).candidates
     confirmed = find_wires_ridge(tray.image, tray.px_per_mm).candidates
