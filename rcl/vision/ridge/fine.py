@@ -7,14 +7,18 @@ end by the conductor's length. In the input's pixels (4-8 px/mm) such a conducto
 or three pixels wide. This reads it there: along rays from the insulation's end, straight on and
 turned a little, at offsets across it, the colour on the ray less the mean of the board on both
 sides of it (FLANK_OUT beyond the wire's edges), averaged over WINDOW_MM along, in units of its
-own noise (the spread of the two sides' difference along the ray): a z-score. A conductor is a
+own noise (the spread of the two sides' difference along the ray), the lesser of the two sides
+(what stands out of one side only is the edge of a patch of print): a z-score. A conductor is a
 stretch that starts within DIP_MM of the end (the blur of the insulation's cut face may come
 first), stands Z or more, runs for at least CONDUCTOR_MIN_MM and stops before TIP_MAX_MM with
 board beyond it (its z under OFF on average over the next 2 mm); that stands REL or more of the
 insulation's own z (an end's soft shadow or halo past a wire of strong contrast stands out of the
 noise too, but a small share of the wire); and that is narrower than the wire (its flanks, FLANK
 of the wire's width off its axis, under NARROW of its middle: a shadow or a blur is as broad as
-the wire). Its tip is where its contrast, projected on its own colour, first falls under half.
+the wire); that stands out of what the board does beside it (rays BESIDE_AT wire widths off to
+either side show no such line: the grain of a wood); and past whose tip no line goes on, straight
+or turned up to FAN_DEG (a printed line slanting through the end). Its tip is where its contrast,
+projected on its own colour, first falls under half.
 """
 from __future__ import annotations
 
@@ -72,8 +76,7 @@ def follow(image: np.ndarray, end: np.ndarray, out: np.ndarray, width: float, pp
         sigma = np.maximum(1.4826 * np.median(np.abs(e - np.median(e, axis=0)), axis=0), NOISE_FLOOR)
         # over each side alone (what lies on the ray must stand out of the board on both sides of
         # it, not of one: the edge of a patch of the board's print): the lesser
-        z = np.minimum(*(_z(ndimage.uniform_filter1d(v[:, 0] - v[:, i], nw, axis=0, mode="nearest"), sigma)
-                         for i in (1, 2))) * noise_gain
+        z = _score(v, sigma, nw) * noise_gain
         j = int(np.argmax(z[near].mean(axis=0)))
         score = float(z[near, j].mean())
         if best is None or score > best[0]:
@@ -132,8 +135,7 @@ def follow(image: np.ndarray, end: np.ndarray, out: np.ndarray, width: float, pp
         if not ((pts >= 0).all() and (pts[..., 0] <= h - 1).all() and (pts[..., 1] <= w - 1).all()):
             continue
         vf = bilinear(image, pts.reshape(-1, 2)).reshape(len(ahead), 3, -1)
-        zf = np.minimum(*(_z(ndimage.uniform_filter1d(vf[:, 0] - vf[:, i], nw, axis=0, mode="nearest"), sigma)
-                          for i in (1, 2))) * noise_gain
+        zf = _score(vf, sigma, nw) * noise_gain
         if float(zf.mean()) >= Z:
             return None
     # it stands out of what the board does beside it: rays alongside, BESIDE_AT wire widths off to
@@ -148,17 +150,21 @@ def follow(image: np.ndarray, end: np.ndarray, out: np.ndarray, width: float, pp
             if not inside.all():
                 continue
             v = bilinear(image, pts.reshape(-1, 2)).reshape(last + 1 - a, 3, len(shifts), -1)
-            zb = np.minimum(*(_z(ndimage.uniform_filter1d(v[:, 0] - v[:, i], nw, axis=0, mode="nearest"), sigma)
-                              for i in (1, 2))) * noise_gain
+            zb = _score(v, sigma, nw) * noise_gain
             if float(np.median(zb, axis=0).max()) >= ALONGSIDE * mine:
                 return None
     return end + at[last] * o + shift * side
 
 
-def _z(diff: np.ndarray, sigma: np.ndarray) -> np.ndarray:
-    """The root mean square over the channels (last axis) of diff in units of sigma."""
-    z = diff / sigma
-    return np.sqrt((z * z).mean(axis=-1))
+def _score(v: np.ndarray, sigma: np.ndarray, window: int) -> np.ndarray:
+    """How far the ray's colours v[:, 0] stand out of each side's, v[:, 1] and v[:, 2] (steps
+    first, channels last), averaged over `window` steps along it, in units of sigma (root mean
+    square over the channels): the lesser of the two sides."""
+    def one(side: int) -> np.ndarray:
+        z = ndimage.uniform_filter1d(v[:, 0] - v[:, side], window, axis=0, mode="nearest") / sigma
+        return np.sqrt((z * z).mean(axis=-1))
+
+    return np.minimum(one(1), one(2))
 
 
 def _closed(on: np.ndarray, gap: int) -> np.ndarray:
