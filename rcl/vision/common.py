@@ -148,3 +148,12 @@ class Clock:
         now = time.perf_counter()
         self.into[stage] = (now - self.last) * 1000.0
         self.last = now
+
+
+def bridged(rows: np.ndarray, gap: int) -> np.ndarray:
+    """Each row with its runs of False no longer than gap, between two Trues, made True: a
+    binary closing along the rows (away from their ends)."""
+    at = np.arange(rows.shape[1])
+    before = np.maximum.accumulate(np.where(rows, at, -1), axis=1)
+    after = np.minimum.accumulate(np.where(rows, at, rows.shape[1])[:, ::-1], axis=1)[:, ::-1]
+    return rows | ((before >= 0) & (after < rows.shape[1]) & (after - before - 1 <= gap))

@@ -27,6 +27,7 @@ import math
 import numpy as np
 from scipy import ndimage
 
+from ..common import bridged
 from .contrast import bilinear
 
 Z = 4.0  # the conductor's z-score over its sides, averaged over WINDOW_MM along it
@@ -88,7 +89,7 @@ def follow(image: np.ndarray, end: np.ndarray, out: np.ndarray, width: float, pp
     _, z, d, at, o, side, shift, sigma = best
     own = float(np.median(z[(at >= -2.0 * ppm) & (at <= -0.5 * ppm)]))
     z, d, at = z[at >= 0], d[at >= 0], at[at >= 0]
-    on = _closed(z >= Z, max(int(round(GAP_MM * ppm / STEP)), 1))
+    on = bridged((z >= Z)[None, :], max(int(round(GAP_MM * ppm / STEP)), 1))[0]
     first = np.flatnonzero(on)
     if not first.size or at[first[0]] > DIP_MM * ppm:
         return None
@@ -165,9 +166,3 @@ def _score(v: np.ndarray, sigma: np.ndarray, window: int) -> np.ndarray:
         return np.sqrt((z * z).mean(axis=-1))
 
     return np.minimum(one(1), one(2))
-
-
-def _closed(on: np.ndarray, gap: int) -> np.ndarray:
-    """`on` with each run of False no longer than gap between two Trues made True."""
-    padded = np.pad(on, gap + 1)
-    return ndimage.binary_closing(padded, np.ones(gap + 1, bool))[gap + 1:-gap - 1]

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..common import FRAME_MARGIN_MM, GRASP_MM, median, principal_direction
+from ..common import FRAME_MARGIN_MM, GRASP_MM, bridged, median, principal_direction
 from ..sighting import Sighting
 from .contrast import Contrast, _corners, _mix, bilinear, light_and_tint, shadow_free
 from .fine import follow as follow_in_input
@@ -675,7 +675,7 @@ class EndReader:
         # goes as it crosses the pixel grid (and strands or JPEG blocks break it up)
         held = ndimage.maximum_filter1d(rise, max(n // 2, 1), mode="nearest")
         on = (mean >= CONDUCTOR_CONTRAST) & (held >= 0.5 * CONDUCTOR_CONTRAST)
-        on = _bridged(on[None, :], 1)[0]  # (nor is a dip of the average itself for one step: a grain across a thin line)
+        on = bridged(on[None, :], 1)[0]  # (nor is a dip of the average itself for one step: a grain across a thin line)
         # what the scan followed: back from end, the steps where the wire stands out but narrow:
         # its flanks stand out less, as a share of its middle, than the insulation's (`flanks`,
         # the FLANK_ constants; a round wire's flanks are darker than its middle, so under 1),
@@ -707,7 +707,7 @@ class EndReader:
         short = ndimage.uniform_filter1d(rise, max(n // 2, 1), mode="nearest")
         own = float(median(short[s0:run]))
         edge = max(CONDUCTOR_CONTRAST, TIP_SHARE * own)
-        low = z + np.flatnonzero(~_bridged((mean[z:run] >= edge)[None, :], 1)[0])
+        low = z + np.flatnonzero(~bridged((mean[z:run] >= edge)[None, :], 1)[0])
         if not followed:  # not in the tip's own first window (it reaches back onto the insulation)
             low = low[low >= z + n]
         i = int(low[0]) if low.size else run
@@ -966,7 +966,7 @@ class EndReader:
         above = prof >= np.maximum(share * peak, board)
         # a break narrower than BRIDGE_MM is no edge: the specular line along a glossy wire (it may
         # be as light as the board), or a grain
-        above = _bridged(above, int(round(max(BRIDGE_MM * self.wppm, bridge) / 0.5)))
+        above = bridged(above, int(round(max(BRIDGE_MM * self.wppm, bridge) / 0.5)))
         # in each row, the run of `above` through the sample nearest the centre line that is in it
         window = above[:, mid - 3:mid + 4]
         seen = window.any(axis=1)
@@ -1379,15 +1379,6 @@ def _on_itself(pts: np.ndarray, at: np.ndarray, line: np.ndarray, half: float, r
     j = np.clip(at[:, None] + np.arange(-m, m + 1)[None, :], 0, len(line) - 1)
     d2 = ((line[j] - pts[:, None, :]) ** 2).sum(axis=2)
     return d2.min(axis=1) < half * half
-
-
-def _bridged(rows: np.ndarray, gap: int) -> np.ndarray:
-    """Each row with its runs of False no longer than gap, between two Trues, made True: a
-    binary closing along the rows (away from their ends)."""
-    at = np.arange(rows.shape[1])
-    before = np.maximum.accumulate(np.where(rows, at, -1), axis=1)
-    after = np.minimum.accumulate(np.where(rows, at, rows.shape[1])[:, ::-1], axis=1)[:, ::-1]
-    return rows | ((before >= 0) & (after < rows.shape[1]) & (after - before - 1 <= gap))
 
 
 def _normals(line: np.ndarray) -> np.ndarray:
