@@ -135,6 +135,13 @@ COLOUR_CHANGE = 0.55  # along the line 1 mm past the grasp point to the fingers'
 COLOUR_RUN_MM = 1.0  # wire lies along its line there (a black wire's end in line with a grey wire: tray 205574)
 BESIDE = "another wire or something lies beside it"
 NO_ROOM = "no room for the fingers at the grasp point"
+UNSEEN = "past its end the image has the wire's own colour: it may go on unseen"
+UNDER = "its wire shows again past something across its end: it runs under it"
+TWO_EDGES_ON = "past its end its two edges go on, its colour between them: it may go on unseen"
+FADES = "its contrast fades but goes on past its end"
+BEYOND = "something lies just beyond its end"
+# refusals for what lies just past the insulation's end, which a thin conductor there would be
+PAST_TIP = (UNSEEN, UNDER, TWO_EDGES_ON, FADES, BEYOND)
 
 
 class EndReader:
@@ -268,7 +275,6 @@ class EndReader:
         centred on its contrast the most over STRIPE_CENTRE of its width either way along it (a
         striped wire)."""
         mm = self.wppm
-        border = FRAME_MARGIN_MM * mm
         arc = _arc(line)
         self.shadows = self.casts_shadow(line, width)
         self.shadow_past = None  # (how far past the tip, its contrast): the end's soft shadow, where seen
@@ -299,18 +305,33 @@ class EndReader:
                 tip_s = self.short_of_shadow(scan, scan_s, along, tip_s, out, width)
         if isinstance(tip_s, str):
             return tip_s
-        tip = np.array([np.interp(tip_s, es, ext[:, 0]), np.interp(tip_s, es, ext[:, 1])])
-        insulation = tip
-        tip = self.conductor(tip, out, width, lambda: self.flanks(line, arc, width))
-        if not gap and np.all(tip == insulation):  # none seen here: one too thin or faint for the working image?
-            tip = self.fine_conductor(insulation, out, width, level)
+        insulation = np.array([np.interp(tip_s, es, ext[:, 0]), np.interp(tip_s, es, ext[:, 1])])
+        tip = self.conductor(insulation, out, width, lambda: self.flanks(line, arc, width))
+        on = (ext[es > tip_s + 0.5], how, inward, level, board, width, gap, stripes)
+        if gap or np.any(tip != insulation):
+            return self.from_tip(tip, insulation, *on)
+        # none seen here; one too thin or faint for the working image is looked for in the
+        # input's pixels, but only where it could matter: where the end is free without it, or
+        # refused for what lies just past the insulation (which such a conductor would be)
+        took = self.from_tip(insulation, insulation, *on)
+        if isinstance(took, str) and took not in PAST_TIP:
+            return took
+        fine = self.fine_conductor(insulation, out, width, level)
+        return took if np.all(fine == insulation) else self.from_tip(fine, insulation, *on)
+
+    def from_tip(self, tip, insulation, rest, how, inward, level, board, width, gap, stripes):
+        """take() from the tip on: the Sighting of the end whose tip is `tip` (insulation: where
+        its insulation ends) and whose centre line goes on as `rest`, or why it is refused."""
+        mm = self.wppm
+        border = FRAME_MARGIN_MM * mm
+        out = -inward
         r, c = tip
         if r < border or c < border or r > self.h - 1 - border or c > self.w - 1 - border:
             return "its end is at the frame's border"
         if self.off_tray(tip[None, :], width / 2 + RIM_GAP_MM * mm)[0]:
             return "its end is at the tray's rim"
         # the centre line from the tip, and the grasp point GRASP_MM along it
-        full = _resample(np.vstack([tip[None, :], ext[es > tip_s + 0.5]]), 1.0)
+        full = _resample(np.vstack([tip[None, :], rest]), 1.0)
         if not gap:  # (between two edges the middle is known)
             full = self.recentred(full, width, max(STRIPE_ALONG_MM * mm, STRIPE_CENTRE * width) if stripes else 0.0)
         s = _arc(full)
@@ -343,9 +364,9 @@ class EndReader:
         near = (s >= (GRASP_MM - TANGENT_MM) * mm) & (s <= (GRASP_MM + TANGENT_MM) * mm)
         tangent = principal_direction(full[near]) if near.sum() >= 3 else inward
         if not gap and self.hidden(on_axis, inward, width, level):
-            return "past its end the image has the wire's own colour: it may go on unseen"
+            return UNSEEN
         if not gap and self.reappears(on_axis, inward, width, level):
-            return "its wire shows again past something across its end: it runs under it"
+            return UNDER
         span = self.span(full, grasp, width)
         why = self.crowded(span, tip, out, width, board, level)
         if why:
@@ -353,7 +374,7 @@ class EndReader:
         if self.changes_colour(full, width, level):
             return "its line changes colour past the grasp point: another wire lies along it there"
         if not gap and self.edges_go_on(on_axis, inward, width):  # (asked last: the ends still free are few)
-            return "past its end its two edges go on, its colour between them: it may go on unseen"
+            return TWO_EDGES_ON
         clutter = self.clutter(span, tip, out, width, board)
         if not gap:
             grasp = self.centred(grasp, tangent, width)
@@ -1039,7 +1060,7 @@ class EndReader:
         mid = len(_FAN) // 2
         ahead = max((fan[j - 1:j + 2] for j in range(mid - BEND_RAYS, mid + BEND_RAYS + 1)), key=np.count_nonzero)
         if np.count_nonzero(ahead) >= ahead.size // 2 and np.count_nonzero(fan) < BROAD_SHARE * fan.size:
-            return "its contrast fades but goes on past its end"
+            return FADES
         # beside the span, something that goes on for RUN_MM along it (a speck of the board's
         # texture or a thin printed line does not)
         runs = hit[:nb].reshape(len(line), 2, 3).copy()
@@ -1073,7 +1094,7 @@ class EndReader:
         if low < board and self._faint_across(beside, at, line, half, low, level, need):
             return BESIDE
         if np.count_nonzero(hit[nb:nb + nc]) >= CAP_HITS:
-            return "something lies just beyond its end"
+            return BEYOND
         if np.count_nonzero(in_disc) >= DISC_HITS:  # (specks there leave the fingers room)
             grasp = line[np.argmin(np.abs(np.arange(len(line)) - GRASP_MM * mm))]  # (line: 1 px steps from the tip)
             in_disc &= ~self._specks(grasp, (CLEARANCE_MM + 1.0) * mm, line, half, board, level)(disc)
