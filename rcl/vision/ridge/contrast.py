@@ -30,13 +30,19 @@ TONE_PATCHY = 0.005  # ... fill this share of the tray TONE_THICK_MM inside them
 TONE_GAIN = 0.5  # ... and taken so if it leaves less than this share of those places above TONE_F
 
 
+def unit(a: np.ndarray) -> float:
+    """What one level of an image of a's type is in colours 0-1: 8-bit and 16-bit levels scaled,
+    floats taken as they are."""
+    return 1.0 / 255.0 if a.dtype == np.uint8 else 1.0 / 65535.0 if a.dtype == np.uint16 else 1.0
+
+
 def working_image(image: np.ndarray, px_per_mm: float, k: float | None = None) -> tuple[np.ndarray, float]:
     """(the image averaged to 2-3 px/mm as float32 (rows, cols, channels), the input pixels per
     working pixel k): k x k blocks, k = px/mm // 2, and blocks 1.5 px wide at 3-4 px/mm (each 3 x 3
     pixels become 2 x 2); below 3 px/mm, the image as it is. Given k (1, 1.5 or a whole number),
     blocks that wide whatever px/mm is."""
     a = np.asarray(image)
-    scale = 1.0 / 255.0 if a.dtype == np.uint8 else 1.0 / 65535.0 if a.dtype == np.uint16 else 1.0
+    scale = unit(a)
     if a.ndim == 2:
         a = a[:, :, None]
     if a.ndim != 3 or a.shape[2] not in (1, 3, 4) or not np.issubdtype(a.dtype, np.number):

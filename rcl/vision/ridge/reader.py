@@ -15,7 +15,7 @@ import numpy as np
 
 from ..common import FRAME_MARGIN_MM, GRASP_MM, bridged, median, principal_direction
 from ..sighting import Sighting
-from .contrast import Contrast, _corners, _mix, bilinear, light_and_tint, shadow_free
+from .contrast import Contrast, _corners, _mix, bilinear, light_and_tint, shadow_free, unit
 from .fine import follow as follow_in_input
 from .graph import SPAN_MM, Graph
 from .rim import RIM_EDGE_MM
@@ -775,11 +775,10 @@ class EndReader:
         tipward = np.median(colours[:len(last)], axis=0)
         if float(np.linalg.norm(colours[len(last):] - tipward, axis=1).min()) > COLOUR_CHANGE * level:
             return end
-        if self._image is None:
-            img = np.asarray(self.source, np.float32)
-            if img.max() > 1.5:  # (8-bit levels: fine.follow takes colours 0-1)
-                img = img * np.float32(1.0 / 255.0)
-            self._image = img if img.ndim == 3 else img[:, :, None]
+        if self._image is None:  # (fine.follow takes colours 0-1, as working_image() reads them)
+            a = np.asarray(self.source)
+            img = a[:, :, :3] if a.ndim == 3 else a[:, :, None]
+            self._image = img.astype(np.float32) * np.float32(unit(a))
         k = self.k
         tip = follow_in_input(self._image, (end + 0.5) * k - 0.5, out, width * k, self.wppm * k,
                           CONDUCTOR_MIN_MM, TIP_MAX_MM)
