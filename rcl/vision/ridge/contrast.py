@@ -268,11 +268,17 @@ def _two_tones(work: np.ndarray, wppm: float, outside: np.ndarray | None) -> np.
     low = (tone < t) & inside
     high = (tone >= t) & inside
     r = TONE_THICK_MM * wppm
-    thick_low = _deep_in(low, r)
-    thick_high = _deep_in(high, r)
     n = max(int(inside.sum()), 1)
-    if thick_low.sum() < TONE_SHARE * n or thick_high.sum() < TONE_SHARE * n:
+    # the tone with fewer pixels first: where it has too few places deep inside it (most often,
+    # as Otsu splits a board of one colour unevenly), the other need not be looked at
+    first_low = int(low.sum()) <= int(high.sum())
+    thick_first = _deep_in(low if first_low else high, r)
+    if thick_first.sum() < TONE_SHARE * n:
         return None
+    thick_second = _deep_in(high if first_low else low, r)
+    if thick_second.sum() < TONE_SHARE * n:
+        return None
+    thick_low, thick_high = (thick_first, thick_second) if first_low else (thick_second, thick_first)
     patch_low = low & _near(thick_low, r)
     patch_high = high & _near(thick_high, r)
     lows, grid = _block_medians(work, wppm, ~thick_low)
