@@ -607,6 +607,29 @@ def test_ridge_refuses_an_end_cut_by_the_frame_and_one_crowded_by_another_wire()
     assert any(np.linalg.norm(np.array(s.end) / 4.0 - [48.0, 30.0]) < 1.0 for s in res.candidates)  # b's top is free
 
 
+@pytest.mark.parametrize("gap_mm, free", [(0.3, False), (1.0, False), (2.0, False), (3.5, True), (4.5, True)])
+def test_ridge_takes_an_end_with_bare_board_past_its_tip_before_another_wire(gap_mm, free):
+    """Another wire lying across the way, its edge gap_mm past a 2 mm wire's flat end: the ground
+    truth takes the end if the gap is over 1.5 mm (it counts an end as rounded, half the wire's
+    width, and asks 0.5 mm more). The finder asks more, for its tip may be a little off: bare
+    board over the first three of the five rings of the fan past the tip (out to 2.3 mm from
+    this one's); what lies beyond them is another thing, not the wire going on (trays 243592,
+    248219, 249083: another wire a few mm past a free end, which the last two rings saw). Here
+    the end is taken from 3.25 mm on, where it was from 3.75 mm on; nearer than 3 mm the two
+    centre lines run together at the working scale."""
+    from rcl.vision.scenes import WireLook
+    from rcl.vision.synth import ground_truth
+
+    a = rightward_wire([40.0, 64.0], 70.0)
+    b = Wire(np.array([40.0 - gap_mm - 1.0, 30.0]) + np.arange(0, 70.0, 0.5)[:, None] * [0.0, 1.0], 2.0, 0, (0.1,))
+    truth = next(e for e in ground_truth([a, b], 128.0) if e.wire == 0 and e.end == 0)
+    assert truth.graspable == (gap_mm > 1.5)
+    look = WireLook("black", BLACK, ("flat", "flat"), (0.0, 0.0), 0.0)
+    res = find_wires_ridge(grey_board_image([a, b], [look, look], 2), 4.0, enough=0)
+    taken = any(np.linalg.norm(np.array(s.end) / 4.0 - [40.0, 64.0]) < 1.0 for s in res.candidates)
+    assert taken == free, res.rejected
+
+
 def speckled_under(specks_mm, ppm=4.0, size=512, board=0.8, depth=0.45, sigma_mm=0.3, extra=()):
     """A plain board with dark specks (Gaussian blobs, the randomized trays' speckled board) at
     the points specks_mm, and `extra` dark discs ((x, y, radius) mm) or bars ((x0, y0, x1, y1, width) mm)."""

@@ -47,8 +47,9 @@ only when what lies around it can be seen to be bare board.
    something faint lying across its end (a wire of nearly the board's colour over it), or whose
    centre line turns more sharply than a wire bends (a trace run on past a junction
    onto another wire), is refused.
-6. Free: the board must show beside the whole span, beyond the tip, and in a
-   CLEARANCE_MM disc round the grasp point (room for the fingers); a faint band only
+6. Free: the board must show beside the whole span, beyond the tip (out to 2.5 mm from its edge,
+   unless the first 1.3 mm show bare board: what lies past that is another thing, clear of the
+   end), and in a CLEARANCE_MM disc round the grasp point (room for the fingers); a faint band only
    next to the wire, along much of the span, is its own flank or shadow, a point beside it
    that falls on the wire itself (where its line hooks, at an end cut aslant) is the wire, and
    a speck of the board's texture (no more than SPECK_MM across, traced at half the threshold;

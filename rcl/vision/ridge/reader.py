@@ -82,6 +82,9 @@ FADE_FLOOR = 2.5  # ... and so does this much (spreads): bare board beyond an en
 BROAD_SHARE = 0.6  # ... unless it fills this share of the fan beyond the tip: a broad patch of the board's print
 BEND_RAYS = 1  # ... in three neighbouring rays of the fan (17.5 degrees apart) centred up to this many rays off
 # the axis: a wire fading into a darker patch of the board as it bends (CVF-DLO BWH b3_9, 28 degrees)
+BARE_RINGS = 3  # where the fan's first so many rings past the tip (of 5, out to 1.4 SIDE_FREE_MM past the wire's
+# edge) are bare board at the fading threshold, what lies further out is another thing: neither the wire going on
+# nor something just beyond its end (another wire 3.25 mm or more past a 2 mm wire's tip, where 3.75 were asked)
 RUN_MM = 0.6  # beside the span: contrast this long along the wire is something there
 SPECK_MM = 2.0  # ... unless it is a speck of the board's texture: no larger than this across
 SPECK_TRACE = 0.5  # ... where its contrast is this share of the threshold for a thing there
@@ -1051,6 +1054,11 @@ class EndReader:
             reach, dim = self.shadow_past
             fan_at = values[nb:nb + nc]
             fan_at[(np.linalg.norm(cap - tip, axis=1) <= reach + mm) & (fan_at <= SHADOW_DIM * dim)] = 0.0
+        # past bare board just beyond the tip, what lies further out is another thing, clear of the
+        # end (the fan's rings: a view of its samples, rays by rings out from the tip)
+        rings = values[nb:nb + nc].reshape(len(_FAN), -1)
+        if (rings[:, :BARE_RINGS] < min(board, max(FADE_FLOOR, FADE_SHARE * level))).all():
+            rings[:, BARE_RINGS:] = 0.0
         hit = values >= board
         # on past the tip, straight or bending a little, even a faint contrast that goes on is the
         # wire going on into light or a colour that hides it, not its end; but not one that fills
