@@ -1057,13 +1057,14 @@ class EndReader:
         # past bare board just beyond the tip, what lies further out is another thing, clear of the
         # end (the fan's rings: a view of its samples, rays by rings out from the tip)
         rings = values[nb:nb + nc].reshape(len(_FAN), -1)
-        if (rings[:, :BARE_RINGS] < min(board, max(FADE_FLOOR, FADE_SHARE * level))).all():
+        fading = max(FADE_FLOOR, FADE_SHARE * level)
+        if (rings[:, :BARE_RINGS] < min(board, fading)).all():
             rings[:, BARE_RINGS:] = 0.0
         hit = values >= board
         # on past the tip, straight or bending a little, even a faint contrast that goes on is the
         # wire going on into light or a colour that hides it, not its end; but not one that fills
         # most of the fan beyond the tip, as no wire going on does: a broad patch of the board's print
-        fan = values[nb:nb + nc].reshape(len(_FAN), -1) >= max(FADE_FLOOR, FADE_SHARE * level)
+        fan = rings >= fading
         mid = len(_FAN) // 2
         ahead = max((fan[j - 1:j + 2] for j in range(mid - BEND_RAYS, mid + BEND_RAYS + 1)), key=np.count_nonzero)
         if np.count_nonzero(ahead) >= ahead.size // 2 and np.count_nonzero(fan) < BROAD_SHARE * fan.size:
