@@ -1050,12 +1050,10 @@ def test_a_reading_at_another_scale_takes_the_first_readings_rim():
         assert again.rim is not None  # (and the reader measures from it)
 
 
-def test_ridge_puts_first_the_best_free_end_that_both_other_scales_find_free(monkeypatch):
-    # two lone wires, both ends free; which other-scale readings "find" which end is faked, to
-    # check the order: the best end both confirm comes first, the rest keep their order, and
-    # where none is confirmed by both (or only within 1.5 mm, or turned 30 degrees) the order
-    # stands; then the real readings, which find both ends, change nothing
-    import rcl.vision.ridge as ridge
+def two_lone_wire_ends():
+    """Two lone wires at 4 px/mm, one end of each in the frame, both free: (the image, the free
+    ends as the first reading finds them, best first, and the second end moved 6 px and turned
+    30 degrees, as Sightings)."""
     from rcl.vision.scenes import WireLook
     from rcl.vision.sighting import Sighting
     a, b = rightward_wire([30.0, 40.0]), rightward_wire([40.0, 100.0])
@@ -1063,10 +1061,20 @@ def test_ridge_puts_first_the_best_free_end_that_both_other_scales_find_free(mon
     image = grey_board_image([a, b], looks, 4)
     plain = find_wires_ridge(image, 4.0, confirm=False).candidates
     assert len(plain) == 2, plain
+    s = plain[1]
+    moved = Sighting((s.end[0] + 6.0, s.end[1]), s.end_angle, s.grasp, s.grasp_angle)
+    turned = Sighting(s.end, s.end_angle + 30.0, s.grasp, s.grasp_angle)
+    return image, plain, moved, turned
+
+
+def test_ridge_puts_first_the_best_free_end_that_both_other_scales_find_free(monkeypatch):
+    # two lone wires, both ends free; which other-scale readings "find" which end is faked, to
+    # check the order: the best end both confirm comes first, the rest keep their order, and
+    # where none is confirmed by both (or only within 1.5 mm, or turned 30 degrees) the order
+    # stands; then the real readings, which find both ends, change nothing
+    import rcl.vision.ridge as ridge
+    image, plain, moved, turned = two_lone_wire_ends()
     assert find_wires_ridge(image, 4.0).candidates == plain
-    moved = Sighting((plain[1].end[0] + 6.0, plain[1].end[1]), plain[1].end_angle, plain[1].grasp,
-                     plain[1].grasp_angle)
-    turned = Sighting(plain[1].end, plain[1].end_angle + 30.0, plain[1].grasp, plain[1].grasp_angle)
     for finds, first in (({3: [plain[1]], 1.5: [plain[1]]}, plain[1]),
                          ({3: [plain[1]], 1.5: [plain[0]]}, plain[0]),
                          ({3: [plain[1]], 1.5: []}, plain[0]),
@@ -1077,6 +1085,70 @@ def test_ridge_puts_first_the_best_free_end_that_both_other_scales_find_free(mon
         monkeypatch.setattr(ridge._Rereading, "free_near", free_near)
         got = find_wires_ridge(image, 4.0).candidates  # (4 px/mm: worked on at k = 2; the others 3 and 1.5)
         assert got[0] == first and sorted(got, key=lambda s: -s.score) == plain
+
+
+def test_ridge_refuses_an_end_where_a_reading_at_another_scale_sees_no_room_for_the_fingers(monkeypatch):
+    # the same two lone wires; the readings at the other scales are faked again: one that does not
+    # find the best end free because it sees no room at its grasp point refuses it, and the next
+    # comes first; one that finds it free too, or sees no room only at another end (moved 6 px or
+    # turned 30 degrees), changes nothing; with no end left, nothing is picked
+    import rcl.vision.ridge as ridge
+    from rcl.vision.sighting import Sighting
+    image, (best, other), _, _ = two_lone_wire_ends()
+    moved = Sighting((best.end[0] + 6.0, best.end[1]), best.end_angle, best.grasp, best.grasp_angle)
+    turned = Sighting(best.end, best.end_angle + 30.0, best.grasp, best.grasp_angle)
+    for finds, crowded, want in (({3: [best], 1.5: []}, {3: [], 1.5: [best]}, [other]),
+                                 ({3: [], 1.5: []}, {3: [best], 1.5: []}, [other]),
+                                 ({3: [best], 1.5: [best]}, {3: [], 1.5: [best]}, [best, other]),
+                                 ({3: [], 1.5: []}, {3: [moved], 1.5: [turned]}, [best, other]),
+                                 ({3: [other], 1.5: [other]}, {3: [], 1.5: [best]}, [other]),
+                                 ({3: [], 1.5: []}, {3: [best, other], 1.5: []}, [])):
+        def free_near(self, c, finds=finds, crowded=crowded):  # what the reading at scale self.k sees near c
+            self.reader.no_room = crowded[self.k]
+            return [s for s in finds[self.k] if np.hypot(s.end[0] - c.end[0], s.end[1] - c.end[1]) < 8.0]
+        monkeypatch.setattr(ridge._Rereading, "free_near", free_near)
+        res = find_wires_ridge(image, 4.0)
+        assert res.candidates == want
+        assert sum("as read at another scale" in why for _, why in res.rejected) == 2 - len(want)
+
+
+@pytest.mark.parametrize("depth, refused, kept", [(0.45, True, True), (0.21, True, False), (0.15, False, False)])
+def test_a_reading_keeps_an_end_it_sees_no_room_at_for_step_8_only_where_the_thing_stands_clear(depth, refused, kept):
+    """A blob 3 mm across in the fingers' room, 2.5 mm from a wire's centre line beside its grasp
+    point, darker by `depth` on a board of 0.8: the end is refused for no room where the blob
+    stands over the threshold; step 8 is told so (EndReader.no_room) only where it stands
+    ROOM_CLEAR over it: what is just at the threshold in one reading may be the board's texture
+    sampled another way (a green mat's grain in the finer reading of a harness photograph, BWH
+    b3_23, where the end is free)."""
+    from rcl.vision.ridge import _look
+    from rcl.vision.ridge.reader import NO_ROOM, ROOM_CLEAR
+
+    under = speckled_under([(4.0, 124.0)], depth=depth, extra=((79.0, 68.0, 1.5),))
+    image, _centre, _ = straight_wire_image(0.0, tip_mm=(64.0, 64.0), under=under)
+    res, _clock, _began, graph, reader = _look(image, 4.0)
+    for end in graph.ends_in_order(reader.f):
+        if reader.read(end) is None and abs(graph.rc(end)[1] * reader.k / 4.0 - 64.0) < 3.0:
+            assert res.rejected[-1][1] == NO_ROOM
+            break
+    else:
+        assert not refused, res.rejected
+        return
+    assert refused
+    assert (reader.crowding >= ROOM_CLEAR) == kept
+    assert [np.round(np.array(s.end) / 4.0).tolist() for s in reader.no_room] == ([[64.0, 64.0]] if kept else [])
+
+
+@pytest.mark.parametrize("seed, after", [(248483, "correct"), (248761, "correct"), (243241, "miss")])
+def test_ridge_refuses_an_end_the_finer_reading_sees_no_room_at(seed, after):
+    # development trays whose first pick had no room for the fingers, a thing by the grasp point
+    # that only the finer reading sees (248761: a thin conductor's tip 1-2 mm from the grasp
+    # point; 248483 and 243241 the lone free end, which scores under LONE_BELOW): refused, the
+    # next free end is taken, or none
+    tray = random_tray(seed)
+    plain = find_wires_ridge(tray.image, tray.px_per_mm, confirm=False).candidates
+    assert tray.judge(plain[0])[0] == "foul" and "no room" in tray.foul_cause(plain[0])
+    confirmed = find_wires_ridge(tray.image, tray.px_per_mm).candidates
+    assert tray.judge(confirmed[0] if confirmed else None)[0] == after
 
 
 @pytest.mark.parametrize("seed, before", [(206211, "correct"), (203891, "foul")])

@@ -78,10 +78,16 @@ only when what lies around it can be seen to be bare board.
    taken, resampled, not sought again: what they check is how the wires and their ends were
    sampled, not where the tray is); the best free end for which both
    readings find a free end too, its tip within CONFIRM_MM and its direction within
-   CONFIRM_DEG, comes first. If no free end is so confirmed, the order of step 7 stands, so
-   this makes no miss: it puts first an end that does not hang on how the image happened to
-   be sampled (a thin conductor seen at one scale and not the next, a faint neighbour just
-   over or under a threshold).
+   CONFIRM_DEG, comes first. If no free end is so confirmed, the order of step 7 stands: it
+   puts first an end that does not hang on how the image happened to be sampled (a thin
+   conductor seen at one scale and not the next, a faint neighbour just over or under a
+   threshold). But an end that a reading does not find free because it sees no room for the
+   fingers at the grasp point there (the same end: its tip within CONFIRM_MM, its direction
+   within CONFIRM_DEG) is refused: a thing in the fingers' room is something seen, where a
+   reading that finds no end there may only have sampled it less well (a thin wire or a
+   conductor close by the grasp point, clear at the finer scale). A lone free end is asked too
+   where something stands near it (it scores under LONE_BELOW); one with room round it is not,
+   as the two readings cost more than the rest of a look.
 """
 from __future__ import annotations
 
@@ -93,7 +99,7 @@ from ..common import Clock
 from .contrast import contrast, working_image
 from .graph import Graph
 from .lines import centre_lines, ridges, thin_sparse
-from .reader import MIDDLE_BOW, EndReader
+from .reader import MIDDLE_BOW, NO_ROOM, EndReader
 from .rim import find_rim
 
 __all__ = ["RidgeResult", "find_middle", "find_rim", "find_wires_ridge", "thin_sparse", "working_image"]
@@ -105,6 +111,7 @@ CONFIRM_MM = 1.0  # a free end is confirmed where the image read at the next coa
 CONFIRM_DEG = 20.0  # scale has a free end too, its tip within CONFIRM_MM and its direction within CONFIRM_DEG
 CONFIRM_NEAR_MM = 16.0  # ... (there only the centre-line ends this near a free end are read: a tip lies up to
 # TIP_MAX_MM past its line's end)
+LONE_BELOW = 0.7  # a lone free end is confirmed so too where it scores under this (something stands near it)
 
 
 @dataclass
@@ -134,7 +141,7 @@ def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = EN
                 break
     result.candidates.sort(key=lambda s: -s.score)
     clock("ends")
-    if confirm and len(result.candidates) >= 2:
+    if confirm and (len(result.candidates) >= 2 or result.candidates and result.candidates[0].score < LONE_BELOW):
         _confirm(image, px_per_mm, result, reader)
         clock("confirm")
     result.timings["total"] = (clock.last - began) * 1000.0
@@ -144,8 +151,9 @@ def find_wires_ridge(image: np.ndarray, px_per_mm: float = 4.0, enough: int = EN
 def _confirm(image: np.ndarray, px_per_mm: float, result: RidgeResult, first: EndReader) -> None:
     """Step 8: the free ends (best first) asked in turn whether the image read at the next
     coarser and the next finer working scale has a free end there too (CONFIRM_MM,
-    CONFIRM_DEG); the first that both have is put first. If none is, the order stands. The rim
-    the first reading (first) found is taken, resampled, not sought again."""
+    CONFIRM_DEG); the first that both have is put first. One that a reading finds no room for
+    the fingers at instead is refused. If none is confirmed, the order of the rest stands. The
+    rim the first reading (first) found is taken, resampled, not sought again."""
     from ...camera.images import ImageError
 
     others = []
@@ -158,10 +166,18 @@ def _confirm(image: np.ndarray, px_per_mm: float, result: RidgeResult, first: En
         return
     cands = result.candidates
     tol = CONFIRM_MM * px_per_mm
-    for i, c in enumerate(cands):
-        if all(any(_agree(c, s, tol) for s in o.free_near(c)) for o in others):
+    i = 0
+    while i < len(cands):
+        c = cands[i]
+        found = [any(_agree(c, s, tol) for s in o.free_near(c)) for o in others]
+        if all(found):
             cands.insert(0, cands.pop(i))
             return
+        if any(not free and any(_agree(c, s, tol) for s in o.reader.no_room) for free, o in zip(found, others)):
+            result.rejected.append((c.end, f"{NO_ROOM}, as read at another scale"))
+            cands.pop(i)
+            continue
+        i += 1
 
 
 def _other_scales(k: float) -> list[float]:

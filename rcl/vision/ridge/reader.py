@@ -95,6 +95,8 @@ EDGE_SHARE = 0.5  # ... unless only in the band nearest the wire, fainter than t
 EDGE_SPREAD_MM = 5.0  # ... and spread along this much of the span at least (not one thing in one place)
 CAP_HITS = 3  # beyond the tip and round the grasp point: so many samples with contrast are something
 DISC_HITS = 4
+ROOM_CLEAR = 1.25  # a reading at another scale that sees no room there, where the most it sees there stands this
+# far over the threshold (step 8: what is at the threshold may be the board's texture sampled another way)
 CROSS_SHARE = 0.1  # beside a wire of strong contrast, something this share of it (CROSS_FLOOR spreads at
 CROSS_FLOOR = 6.0  # least) across all three bands alike (CROSS_FLAT) over no more than CROSS_MM of the
 CROSS_FLAT = 0.5  # span is a fainter thing touching it (a thin wire's end): the threshold beside it,
@@ -168,6 +170,9 @@ class EndReader:
         self._speck: tuple[float, float] | None = None  # how specks are traced and how large (speck())
         self.source = source  # the input image, if given (fine_conductor reads it)
         self._image: np.ndarray | None = None  # ... as float (rows, cols, channels), once asked for
+        self.no_room: list[Sighting] = []  # the ends refused for no room at the grasp point, ROOM_CLEAR over the
+        # threshold there, as they were seen
+        self.crowding = 0.0  # what the last end refused for no room has there, the most, over the threshold
         if outside is not None and outside.any():
             from scipy import ndimage
 
@@ -373,6 +378,9 @@ class EndReader:
         span = self.span(full, grasp, width)
         why = self.crowded(span, tip, out, width, board, level)
         if why:
+            if why == NO_ROOM and self.crowding >= ROOM_CLEAR:  # (step 8 asks where a reading at
+                # another scale saw no room)
+                self.no_room.append(self.sighting(on_axis, inward, grasp, tangent, 0.0))
             return why
         if self.changes_colour(full, width, level):
             return "its line changes colour past the grasp point: another wire lies along it there"
@@ -1107,6 +1115,7 @@ class EndReader:
             grasp = line[np.argmin(np.abs(np.arange(len(line)) - GRASP_MM * mm))]  # (line: 1 px steps from the tip)
             in_disc &= ~self._specks(grasp, (CLEARANCE_MM + 1.0) * mm, line, half, board, level)(disc)
         if np.count_nonzero(in_disc) >= DISC_HITS:
+            self.crowding = float(values[nb + nc:][in_disc].max()) / board
             return NO_ROOM
         return ""
 
