@@ -111,7 +111,7 @@ CONFIRM_MM = 1.0  # a free end is confirmed where the image read at the next coa
 CONFIRM_DEG = 20.0  # scale has a free end too, its tip within CONFIRM_MM and its direction within CONFIRM_DEG
 CONFIRM_NEAR_MM = 16.0  # ... (there only the centre-line ends this near a free end are read: a tip lies up to
 # TIP_MAX_MM past its line's end)
-LONE_BELOW = 0.7  # a lone free end is confirmed so too where it scores under this (something stands near it)
+LONE_BELOW = 0.7  # a lone free end is asked in step 8 too where it scores under this (something stands near it)
 
 
 @dataclass

@@ -95,8 +95,8 @@ EDGE_SHARE = 0.5  # ... unless only in the band nearest the wire, fainter than t
 EDGE_SPREAD_MM = 5.0  # ... and spread along this much of the span at least (not one thing in one place)
 CAP_HITS = 3  # beyond the tip and round the grasp point: so many samples with contrast are something
 DISC_HITS = 4
-ROOM_CLEAR = 1.25  # a reading at another scale that sees no room there, where the most it sees there stands this
-# far over the threshold (step 8: what is at the threshold may be the board's texture sampled another way)
+ROOM_CLEAR = 1.25  # step 8 refuses an end that a reading at another scale sees no room at only where the most
+# it sees in the fingers' room stands this far over the threshold (at the threshold: the board's grain, sampled anew)
 CROSS_SHARE = 0.1  # beside a wire of strong contrast, something this share of it (CROSS_FLOOR spreads at
 CROSS_FLOOR = 6.0  # least) across all three bands alike (CROSS_FLAT) over no more than CROSS_MM of the
 CROSS_FLAT = 0.5  # span is a fainter thing touching it (a thin wire's end): the threshold beside it,
