@@ -1052,19 +1052,21 @@ def test_a_reading_at_another_scale_takes_the_first_readings_rim():
 
 def two_lone_wire_ends():
     """Two lone wires at 4 px/mm, one end of each in the frame, both free: (the image, the free
-    ends as the first reading finds them, best first, and the second end moved 6 px and turned
-    30 degrees, as Sightings)."""
+    ends as the first reading finds them, best first)."""
     from rcl.vision.scenes import WireLook
-    from rcl.vision.sighting import Sighting
     a, b = rightward_wire([30.0, 40.0]), rightward_wire([40.0, 100.0])
     looks = [WireLook("black", BLACK, ("flat", "flat"), (0.0, 0.0), 0.0)] * 2
     image = grey_board_image([a, b], looks, 4)
     plain = find_wires_ridge(image, 4.0, confirm=False).candidates
     assert len(plain) == 2, plain
-    s = plain[1]
-    moved = Sighting((s.end[0] + 6.0, s.end[1]), s.end_angle, s.grasp, s.grasp_angle)
-    turned = Sighting(s.end, s.end_angle + 30.0, s.grasp, s.grasp_angle)
-    return image, plain, moved, turned
+    return image, plain
+
+
+def moved_and_turned(s):
+    """Sighting s's end moved 6 px, and turned 30 degrees: two other ends, as step 8 tells them."""
+    from rcl.vision.sighting import Sighting
+    return (Sighting((s.end[0] + 6.0, s.end[1]), s.end_angle, s.grasp, s.grasp_angle),
+            Sighting(s.end, s.end_angle + 30.0, s.grasp, s.grasp_angle))
 
 
 def test_ridge_puts_first_the_best_free_end_that_both_other_scales_find_free(monkeypatch):
@@ -1073,7 +1075,8 @@ def test_ridge_puts_first_the_best_free_end_that_both_other_scales_find_free(mon
     # where none is confirmed by both (or only within 1.5 mm, or turned 30 degrees) the order
     # stands; then the real readings, which find both ends, change nothing
     import rcl.vision.ridge as ridge
-    image, plain, moved, turned = two_lone_wire_ends()
+    image, plain = two_lone_wire_ends()
+    moved, turned = moved_and_turned(plain[1])
     assert find_wires_ridge(image, 4.0).candidates == plain
     for finds, first in (({3: [plain[1]], 1.5: [plain[1]]}, plain[1]),
                          ({3: [plain[1]], 1.5: [plain[0]]}, plain[0]),
@@ -1093,10 +1096,8 @@ def test_ridge_refuses_an_end_where_a_reading_at_another_scale_sees_no_room_for_
     # comes first; one that finds it free too, or sees no room only at another end (moved 6 px or
     # turned 30 degrees), changes nothing; with no end left, nothing is picked
     import rcl.vision.ridge as ridge
-    from rcl.vision.sighting import Sighting
-    image, (best, other), _, _ = two_lone_wire_ends()
-    moved = Sighting((best.end[0] + 6.0, best.end[1]), best.end_angle, best.grasp, best.grasp_angle)
-    turned = Sighting(best.end, best.end_angle + 30.0, best.grasp, best.grasp_angle)
+    image, (best, other) = two_lone_wire_ends()
+    moved, turned = moved_and_turned(best)
     for finds, crowded, want in (({3: [best], 1.5: []}, {3: [], 1.5: [best]}, [other]),
                                  ({3: [], 1.5: []}, {3: [best], 1.5: []}, [other]),
                                  ({3: [best], 1.5: [best]}, {3: [], 1.5: [best]}, [best, other]),
