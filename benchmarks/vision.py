@@ -18,7 +18,10 @@ The fouls are also counted by cause (synth.Tray.foul_cause: an end that is not g
 why; a pick short of the end along its wire or past it; at no wire end; a direction, grasp
 point or tangent off), and every verdict by how near the ground truth's rules it lies
 (synth.Tray.nearness: the least change, mm, of the tray or the pick that would turn it over: a
-foul a hair's breadth over the rule, or a miss of an end with a hair's room, against a gross one).
+foul a hair's breadth over the rule, or a miss of an end with a hair's room, against a gross one);
+of the fouls for another wire in the way, those where wires drawn over it hide nearly all of it
+inside the rule's region (synth.Tray.unseen: a wire lying under the picked one, which no camera
+sees) are counted too.
 The same counts by what the slices do not say: the board's kind, the image's size, how many
 wires, colour or grey (drawn_with).
 Also the median end and angle errors of the correct picks, the median time per image and
@@ -27,7 +30,7 @@ bright wires of one polarity on a plain board: plain_dark, plain_bright) and, wi
 seven fixed kinds of synth.make_tray the paper's systems were first measured on.
 
 To judge a change tray by tray (on seeds below 300000): --save FILE writes every tray's verdict,
-foul cause and nearness per method (JSON); run again after the change with --against FILE, and
+foul cause, nearness and unseen share per method (JSON); run again after the change with --against FILE, and
 it lists the trays whose verdict changed, and counts them, before the tables.
 """
 from __future__ import annotations
@@ -56,8 +59,9 @@ def judge_one(job):
         ms = (time.perf_counter() - t) * 1000.0
         pick = res.candidates[0] if res.candidates else None
         verdict, err, ang = tray.judge(pick)
-        out[m] = (verdict, err, ang, ms, dict(res.timings), tray.foul_cause(pick) if verdict == "foul" else "",
-                  tray.nearness(pick))
+        foul = verdict == "foul"
+        out[m] = (verdict, err, ang, ms, dict(res.timings), tray.foul_cause(pick) if foul else "",
+                  tray.nearness(pick), tray.unseen(pick) if foul else None)
     return out
 
 
@@ -97,6 +101,28 @@ def row(label: str, verdicts: list, errs=None, angs=None, ms=None) -> str:
 
 
 NEAR_MM = (0.25, 0.5, 1.0)  # near_table's bins
+
+
+UNSEEN_SHARE = 0.9  # cause_table: a foul for a wire in the way that wires over it hide this much of (Tray.unseen)
+
+
+def cause_table(results: list, m: str) -> None:
+    """The fouls counted by cause (Tray.foul_cause), and of each how many lie within NEAR_MM[1] of
+    the rule (Tray.nearness), how many are gross, and how many are for a wire in the way that
+    wires drawn over it hide (UNSEEN_SHARE of it or more, Tray.unseen: no camera sees it)."""
+    fouls = [r[m] for r in results if r[m][0] == "foul"]
+    causes = collections.Counter(f[5] for f in fouls)
+    if not causes:
+        return
+    print(f"  the fouls by cause (Tray.foul_cause), % of the {len(results)} trays; of each, how many lie within "
+          f"{NEAR_MM[1]} mm of the rule, how many over {NEAR_MM[-1]} mm or in degrees, and how many for a wire in "
+          f"the way {100 * UNSEEN_SHARE:.0f} % hidden under others:")
+    for why, k in causes.most_common():
+        mine = [f for f in fouls if f[5] == why]
+        close = sum(f[6] is not None and f[6] <= NEAR_MM[1] for f in mine)
+        gross = sum(f[6] is None or f[6] > NEAR_MM[-1] for f in mine)
+        unseen = sum(f[7] is not None and f[7] >= UNSEEN_SHARE for f in mine)
+        print(f"    {100 * k / len(results):5.2f}%  {k:>4}  ({close:>3} near, {gross:>3} gross, {unseen:>3} unseen)  {why}")
 
 
 def near_table(results: list, m: str) -> None:
@@ -153,7 +179,7 @@ def main() -> None:
     with one_core_pool(args.jobs) as pool:
         results = list(pool.map(judge_one, jobs, chunksize=8))
     print(f"  {sum(r['graspable'] for r in results)} trays have a graspable end")
-    verdicts = {m: {str(seed): [r[m][0], r[m][5], r[m][6]] for (seed, _), r in zip(jobs, results)} for m in methods}
+    verdicts = {m: {str(seed): [r[m][0], r[m][5], r[m][6], r[m][7]] for (seed, _), r in zip(jobs, results)} for m in methods}
     if args.save:
         Path(args.save).write_text(json.dumps(verdicts))
     if args.against:
@@ -198,20 +224,12 @@ def main() -> None:
         at512 = [r[m] for r in results if tuple(r["size"]) == (512, 512)]
         if at512:
             stages = collections.defaultdict(list)
-            for _, _, _, _, timings, _, _ in at512:
+            for _, _, _, _, timings, *_ in at512:
                 for k, v in timings.items():
                     stages[k].append(v)
             print(f"  512 x 512 ({len(at512)} images), median ms per stage: "
                   + ", ".join(f"{k} {np.median(v):.2f}" for k, v in stages.items()))
-        causes = collections.Counter(r[m][5] for r in results if r[m][0] == "foul")
-        if causes:
-            print(f"  the fouls by cause (Tray.foul_cause), % of the {len(results)} trays; of each, how many "
-                  f"lie within {NEAR_MM[1]} mm of the rule and how many over {NEAR_MM[-1]} mm or in degrees:")
-            for why, k in causes.most_common():
-                near = [r[m][6] for r in results if r[m][0] == "foul" and r[m][5] == why]
-                close = sum(x is not None and x <= NEAR_MM[1] for x in near)
-                gross = sum(x is None or x > NEAR_MM[-1] for x in near)
-                print(f"    {100 * k / len(results):5.2f}%  {k:>4}  ({close:>3} near, {gross:>3} gross)  {why}")
+        cause_table(results, m)
         near_table(results, m)
     print(f"\nwithin each named slice ({args.slice_trays} trays each, seeds {args.seed0}..):")
     print(f"  {'slice':<16} " + " ".join(f"{m + ' c/f/m %':>18}" for m in methods))

@@ -208,6 +208,21 @@ def test_the_vision_benchmark_counts_each_verdict_by_how_near_the_rule_it_lies(c
     assert rows == {"correct": [1, 0, 0, 1, 0], "foul": [1, 1, 0, 0, 1], "miss": [0, 0, 1, 1, 0]}
 
 
+def test_the_vision_benchmark_counts_the_fouls_no_camera_could_see_by_cause(capsys):
+    vision = benchmark("vision")
+    room, top = "an end not graspable: no room for the fingers at the grasp point", "at no wire end"
+    results = [{"ridge": (v, 0, 0, 0, {}, why, near, unseen)} for v, why, near, unseen in
+               [("foul", room, 0.3, 1.0), ("foul", room, 2.0, 0.95), ("foul", room, 2.0, 0.5), ("foul", top, None, None),
+                ("correct", "", 2.0, None), ("miss", "", 0.6, None)]]
+    vision.cause_table(results, "ridge")
+    rows = capsys.readouterr().out.splitlines()[1:]
+    # room: 3 fouls, 1 near, 2 gross, 2 hidden 90 % or more; the other: 1, gross (in degrees), none hidden
+    assert [r.split()[:9] for r in rows] == [["50.00%", "3", "(", "1", "near,", "2", "gross,", "2", "unseen)"],
+                                             ["16.67%", "1", "(", "0", "near,", "1", "gross,", "0", "unseen)"]]
+    vision.cause_table([{"ridge": ("correct", 0, 0, 0, {}, "", 2.0, None)}], "ridge")
+    assert capsys.readouterr().out == ""
+
+
 def test_the_vision_benchmark_groups_trays_by_what_they_are_drawn_with():
     import numpy as np
 

@@ -64,6 +64,46 @@ def test_a_foul_pick_is_told_what_makes_it_foul():
         assert tray.judge(p)[0] == "foul"
 
 
+def test_a_foul_is_told_how_much_of_the_wire_in_its_way_lies_hidden_under_others():
+    from rcl.vision.sighting import Sighting
+    from rcl.vision.synth import Tray
+
+    def line(x0, y0, x1, y1):
+        return np.column_stack([np.linspace(x0, x1, 201), np.linspace(y0, y1, 201)])
+
+    # wire A, 2 mm wide on layer 1, along y = 40 mm from x = 20 (its end) to 80; grasp point at x = 35
+    a = Wire(line(20.0, 40.0, 80.0, 40.0), 2.0, 1, (0.1,))
+    pick = Sighting((80.0, 160.0), 0.0, (140.0, 160.0), 0.0)  # at A's end, 4 px/mm
+
+    def unseen(*others):
+        tray = Tray(np.zeros((480, 480)), 4.0, [a, *others])
+        tray.ends = ground_truth(tray.wires, 120.0)
+        return tray, tray.unseen(pick)
+
+    def strip(y):  # the area of the fingers' disc (radius r) from its centre line out to y across it
+        r = FINGER_CLEARANCE_MM
+        return y * math.sqrt(r * r - y * y) + r * r * math.asin(y / r)
+
+    # B along A beneath it, reaching 1 mm past A's edge: the half of it under A is hidden
+    tray, share = unseen(Wire(line(0.0, 41.0, 100.0, 41.0), 2.0, 0, (0.1,)))
+    assert tray.ends[0].why == "no room for the fingers at the grasp point"
+    assert abs(share - (strip(1.0) - strip(0.0)) / (strip(2.0) - strip(0.0))) < 0.01
+    assert unseen(Wire(line(0.0, 40.0, 100.0, 40.0), 1.0, 0, (0.1,)))[1] == 1.0  # wholly under A
+    assert unseen(Wire(line(0.0, 41.0, 100.0, 41.0), 2.0, 2, (0.1,)))[1] == 0.0  # over A: all in view
+    # B 1 mm wide across A's span 5 mm from its end, under it: 2 of its 3 mm inside the strip hidden
+    tray, share = unseen(Wire(line(25.0, 0.0, 25.0, 100.0), 1.0, 0, (0.1,)))
+    assert tray.ends[0].why == "it crosses or touches another wire near its end"
+    assert abs(share - 2.0 / 3.0) < 0.01
+    # a correct pick, a pick at no end, an end cut by the border: nothing to say
+    assert unseen()[1] is None
+    tray, _ = unseen(Wire(line(0.0, 40.0, 100.0, 40.0), 1.0, 0, (0.1,)))
+    assert tray.unseen(Sighting((200.0, 300.0), 0.0, (260.0, 300.0), 0.0)) is None
+    assert tray.unseen(None) is None
+    cut = Tray(np.zeros((328, 328)), 4.0, [Wire(line(20.0, 40.0, 81.0, 40.0), 2.0, 0, (0.1,))])
+    cut.ends = ground_truth(cut.wires, 82.0)
+    assert cut.unseen(Sighting((324.0, 160.0), 180.0, (264.0, 160.0), 0.0)) is None
+
+
 def test_a_resampled_line_runs_evenly_from_end_to_end():
     from rcl.vision.synth import resample
 

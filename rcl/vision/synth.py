@@ -20,6 +20,7 @@ from .common import FINGER_CLEARANCE_MM, GRASP_MM  # the ground truth's, as ever
 KINDS = ("sparse", "crossing", "low_contrast", "bright_on_dark", "stripped", "colour", "edge")
 END_MARGIN_MM = 3.0  # an end this close to the image border counts as cut by it
 TOUCH_MM = 0.5  # wires closer than this, edge to edge, touch: taking one drags the other
+UNSEEN_STEP_MM = 0.1  # Tray.unseen's grid
 
 
 @dataclass
@@ -97,6 +98,51 @@ class Tray:
         if not 11 <= m["arc"] <= 19:
             return "the grasp point is not 11-19 mm along"
         return "the tangent at the grasp point is off"
+
+    def unseen(self, pick) -> float | None:
+        """How much of the other wires that make a foul pick's true end not graspable no camera
+        could see: the share (0-1) of their material inside the rule's region that wires drawn
+        over them hide (0: all of it in view; 1: a wire lying wholly under the picked one there).
+        The region: the FINGER_CLEARANCE_MM disc round the true grasp point, where the end leaves
+        no room for the fingers; the strip within the wire's half width and TOUCH_MM of its first
+        GRASP_MM + 5 mm, where another wire touches, crosses or lies on top of it. None for a
+        pick that is correct or not at a true end, for an end that fails for another reason (the
+        border, a thing on the tray), or where no other wire lies inside the region (the wire
+        itself coming back)."""
+        if pick is None:
+            return None
+        m = self._measure(pick)
+        truth = m["truth"]
+        if _correct(m) or m["err"] > 1.5 or truth.graspable:
+            return None
+        i, w = truth.wire, self.wires[truth.wire]
+        step = UNSEEN_STEP_MM
+        if "no room for the fingers" in truth.why:
+            centre = w.point_at(truth.end, GRASP_MM)
+            a = np.arange(-FINGER_CLEARANCE_MM + step / 2, FINGER_CLEARANCE_MM, step)  # (cells' centres)
+            grid = np.stack(np.meshgrid(a, a), axis=-1).reshape(-1, 2)
+            grid = grid[(grid * grid).sum(axis=1) <= FINGER_CLEARANCE_MM ** 2] + centre
+        elif "another wire" in truth.why:
+            from scipy.spatial import cKDTree
+
+            span = np.array([w.point_at(truth.end, s) for s in np.arange(0.0, GRASP_MM + 5.0 + step / 2, step)])
+            reach = w.width / 2 + TOUCH_MM
+            lo, hi = span.min(axis=0) - reach, span.max(axis=0) + reach
+            grid = np.stack(np.meshgrid(np.arange(lo[0] + step / 2, hi[0], step),
+                                        np.arange(lo[1] + step / 2, hi[1], step)), axis=-1).reshape(-1, 2)
+            grid = grid[cKDTree(span).query(grid)[0] <= reach]
+        else:
+            return None
+        top = np.full(len(grid), -1)
+        for j in sorted(range(len(self.wires)), key=lambda j: self.wires[j].layer):  # as drawn: top layers last
+            top[material_distance(self.wires[j], grid) <= 0.0] = j
+        others = np.zeros(len(grid), bool)
+        for j, o in enumerate(self.wires):
+            if j != i:
+                others |= material_distance(o, grid) <= 0.0
+        if not others.any():
+            return None
+        return float(np.count_nonzero(others & (top == i)) / np.count_nonzero(others))
 
     def margin(self, end: End) -> float:
         """end_margin of one of this tray's ends (mm: how far from the other side of the rule)."""
