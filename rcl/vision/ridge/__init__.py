@@ -255,7 +255,7 @@ def _look(image: np.ndarray, px_per_mm: float, k: float | None = None, first: En
     else:
         outside = find_rim(work, wppm)
     clock("rim")
-    con = contrast(work, wppm, outside, k)
+    con = contrast(work, wppm, outside, k, first.con if first is not None else None)
     clock("contrast")
     flat = SATURATION * np.tanh(con.f * (1.0 / SATURATION))  # a wire's body, not its highlight, makes the ridge
     strength, smoothed, which, each = ridges(flat, wppm)

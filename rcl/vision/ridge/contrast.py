@@ -73,9 +73,12 @@ class Contrast:
     work: np.ndarray
     board: np.ndarray
     unit: np.ndarray
+    lattice: bool = False  # a printed lattice was found and taken out
+    tones: bool = False  # the board was taken as printed in two tones
 
 
-def contrast(work: np.ndarray, wppm: float, outside: np.ndarray | None = None, k: float = 1) -> Contrast:
+def contrast(work: np.ndarray, wppm: float, outside: np.ndarray | None = None, k: float = 1,
+             like: Contrast | None = None) -> Contrast:
     """The contrast F: the board's colour estimated per BOARD_BLOCK_MM block (the median, then the
     median of 3 x 3 blocks, so blocks full of wire are outvoted), subtracted, a printed lattice on
     the board (a cutting mat's grid) taken out of the difference (lattice.py; k: input pixels per
@@ -90,24 +93,29 @@ def contrast(work: np.ndarray, wppm: float, outside: np.ndarray | None = None, k
     TONE_TIGHT of its spread as one colour (the tones are what varies: a wire of a third colour
     drowned in their mixture stands out of them), or when things broader than any wire stand out
     (_patchy) and the tones leave less than TONE_GAIN of the pixels that stood out above TONE_F
-    (the patches of a board printed in tones far apart)."""
+    (the patches of a board printed in tones far apart).
+
+    like: the contrast of the same picture at another working scale, whose findings about the
+    board are taken, not sought again: no lattice where it found none, one colour where it took
+    the board as one (what the picture is printed with does not change with the sampling)."""
+    lattice = like is None or like.lattice
     under = _board(work, wppm, outside)
-    diff, _ = without_lattice(work - under, wppm, k)
+    diff, pairs = without_lattice(work - under, wppm, k) if lattice else (work - under, 0)
     f, unit, spread = _in_spreads(diff, outside)
     inside = _on_tray(f, outside)
     # nothing stands out of the board: a board printed in two tones may drown the wires; or the
     # tones are what varies; or wires stand out, but so do broad patches: tones far apart
     quiet = bool(inside.size) and np.percentile(inside, TONE_WHEN[0]) < TONE_WHEN[1]
-    tones = _two_tones(work, wppm, outside) if inside.size else None
+    tones = _two_tones(work, wppm, outside) if inside.size and (like is None or like.tones) else None
     if tones is not None:
-        diff, _ = without_lattice(work - tones, wppm, k)
+        diff, pairs2 = without_lattice(work - tones, wppm, k) if lattice else (work - tones, 0)
         own = _spread(diff, outside)
         tight = float(np.sqrt((own ** 2).sum() / (spread ** 2).sum())) < TONE_TIGHT
         f2, unit2, _ = _in_spreads(diff, outside, np.maximum(TONE_SPREAD * spread, MIN_SPREAD), own)
         if quiet or tight or (_patchy(f, wppm, outside) and np.count_nonzero(_on_tray(f2, outside) > TONE_F)
                               < TONE_GAIN * np.count_nonzero(inside > TONE_F)):
-            f, unit, under = f2, unit2, tones
-    return Contrast(f, work, under, unit)
+            return Contrast(f2, work, tones, unit2, pairs2 > 0, True)
+    return Contrast(f, work, under, unit, pairs > 0, False)
 
 
 def _on_tray(f: np.ndarray, outside: np.ndarray | None) -> np.ndarray:
