@@ -1293,6 +1293,47 @@ def test_a_mats_grid_is_taken_out_of_the_contrast_and_a_wire_across_it_kept():
     assert abs(out[wire, 0].mean()) > 0.9 * 0.4
 
 
+def test_a_reading_at_another_scale_takes_the_first_readings_findings_about_the_board():
+    """Step 8 reads the picture again at two other working scales; what the board is printed with
+    (two tones, a mat's grid) does not change with the sampling, so those readings take the first
+    reading's findings rather than seek them again: the search is left out where the first found
+    nothing, and made again at the new scale where it found something."""
+    import dataclasses
+
+    from rcl.vision.ridge.contrast import _board, contrast
+
+    def read(image, k=None, like=None):
+        work, k = working_image(image, 4.0, k)
+        return contrast(work, 4.0 / k, None, k, like), work, k
+
+    image, _, _ = straight_wire_image(25.0, (30.0, 40.0), colour=True, under=camouflage_board(),
+                                      wire_colour=(0.10, 0.22, 0.16))
+    first, _, _ = read(image)
+    assert first.tones and not first.lattice
+    again, _, _ = read(image, 1, first)  # the finer scale: two tones sought again, and taken
+    assert again.tones
+    one, work, k = read(image, 1, dataclasses.replace(first, tones=False))
+    assert not one.tones and np.allclose(one.board, _board(work, 4.0 / k, None))
+
+    from scipy import ndimage
+
+    rng = np.random.default_rng(3)  # a 10 mm grid at 4 px/mm, turned 17 degrees, on a grey board, a wire across it
+    grid, on_grid = _lattice_board(17.0, 40.0, True, rng)
+    image = np.repeat(0.55 - grid, 3, axis=2)
+    image[140:148, 30:330] = 0.15
+    first, _, _ = read(image)
+    assert first.lattice and not first.tones
+    again, _, _ = read(image, 1, first)
+    kept, _, _ = read(image, 1, dataclasses.replace(first, lattice=False))  # the grid is left in
+    assert again.lattice and not kept.lattice
+    clear = ~ndimage.binary_dilation(image[..., 0] < 0.2, iterations=12)  # away from the wire
+    lines, board = on_grid & clear, ~ndimage.binary_dilation(on_grid, iterations=2) & clear
+
+    def stand_out(c):  # how far the grid's lines stand out of the board between them
+        return c.f[lines].mean() / c.f[board].mean()
+    assert stand_out(kept) > 3.0 * stand_out(again)  # (7.3 against 1.6)
+
+
 @pytest.mark.parametrize("kind", ["grain", "jpeg blocks", "noise"])
 def test_no_lattice_is_seen_in_a_grain_jpeg_blocks_or_noise(kind):
     from rcl.vision.ridge.lattice import without_lattice

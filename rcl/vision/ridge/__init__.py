@@ -75,8 +75,9 @@ only when what lies around it can be seen to be bare board.
 8. Confirmed at two other scales: the image is read again at the next coarser and the next
    finer working scale (blocks one step wider and narrower; below 3 px/mm only the coarser),
    only the centre-line ends near the free ends being read (the rim the first reading found is
-   taken, resampled, not sought again: what they check is how the wires and their ends were
-   sampled, not where the tray is); the best free end for which both
+   taken, resampled, not sought again, and so is what it found the board printed with: no
+   lattice or second tone is sought where it found none; what they check is how the wires and
+   their ends were sampled, not where the tray is or what the board is); the best free end for which both
    readings find a free end too, its tip within CONFIRM_MM and its direction within
    CONFIRM_DEG, comes first. If no free end is so confirmed, the order of step 7 stands: it
    puts first an end that does not hang on how the image happened to be sampled (a thin
@@ -153,7 +154,8 @@ def _confirm(image: np.ndarray, px_per_mm: float, result: RidgeResult, first: En
     coarser and the next finer working scale has a free end there too (CONFIRM_MM,
     CONFIRM_DEG); the first that both have is put first. One that a reading finds no room for
     the fingers at instead is refused. If none is confirmed, the order of the rest stands. The
-    rim the first reading (first) found is taken, resampled, not sought again."""
+    rim the first reading (first) found is taken, resampled, not sought again, and so are its
+    findings about the board (a lattice, two tones: sought again only where it found them)."""
     from ...camera.images import ImageError
 
     others = []
@@ -242,7 +244,8 @@ def find_middle(image: np.ndarray, px_per_mm: float = 4.0) -> RidgeResult:
 def _look(image: np.ndarray, px_per_mm: float, k: float | None = None, first: EndReader | None = None):
     """The stages before ends are read: (result, clock, start time, the wire graph, its reader);
     k: the working scale, if not the usual; first: a reading of the image at another scale, whose
-    rim is taken (resampled), not sought again."""
+    rim is taken (resampled), not sought again, and whose findings about the board are taken
+    (contrast's like)."""
     result = RidgeResult()
     clock = Clock(result.timings)
     began = clock.last
