@@ -1813,6 +1813,27 @@ def test_two_tones_masks_by_disc_are_the_euclidean_distance_transforms_threshold
     assert np.array_equal(contrast._near(mask, radius), ndimage.distance_transform_edt(~mask) <= radius)
 
 
+@pytest.mark.parametrize("shape", [(90, 130), (3, 40), (7, 5), (1, 1)])
+def test_erosion_and_dilation_by_a_disc_row_by_row_are_scipys(shape):
+    """The two tones' masks are eroded and dilated by a disc one row of the disc at a time (runs
+    along the image's rows, shifted and combined): bit for bit scipy's binary_erosion (the frame's
+    outside counted in the mask) and binary_dilation, on images lower than the disc too."""
+    import sys
+
+    from scipy import ndimage
+
+    contrast = sys.modules["rcl.vision.ridge.contrast"]
+    rng = np.random.default_rng(shape[0])
+    for mask in (rng.random(shape) < 0.6, ndimage.gaussian_filter(rng.normal(size=shape), 2.0) > 0.0,
+                 np.ones(shape, bool), np.zeros(shape, bool)):
+        for radius in (0.7, 1.0, 2.0, 2.5, 4.2, 5.8):
+            for strict in (True, False):
+                disc = contrast._disc_of(radius, strict)
+                assert np.array_equal(contrast._by_disc(mask, disc, True),
+                                      ndimage.binary_erosion(mask, disc, border_value=1)), (radius, strict)
+                assert np.array_equal(contrast._by_disc(mask, disc, False), ndimage.binary_dilation(mask, disc))
+
+
 @pytest.mark.parametrize("shape, wppm", [((448, 336), 2.077), ((512, 512), 4.0), ((241, 319), 2.6)])
 def test_the_boards_block_medians_are_each_blocks_own(shape, wppm):
     """The board's colour per block is the median of every third pixel inside that block, from

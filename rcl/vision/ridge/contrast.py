@@ -324,17 +324,41 @@ def _deep_in(mask: np.ndarray, radius: float) -> np.ndarray:
     """The pixels of mask whose nearest pixel not in it lies radius or more away (the frame's
     edge not counted as one): distance_transform_edt(mask) >= radius, as an erosion by a disc,
     several times quicker for a radius of a few pixels."""
-    from scipy import ndimage
-
-    return ndimage.binary_erosion(mask, _disc_of(radius, True), border_value=1)
+    return _by_disc(mask, _disc_of(radius, True), True)
 
 
 def _near(mask: np.ndarray, radius: float) -> np.ndarray:
     """The pixels within radius of a pixel of mask: distance_transform_edt(~mask) <= radius, as
     a dilation by a disc."""
+    return _by_disc(mask, _disc_of(radius, False), False)
+
+
+def _by_disc(mask: np.ndarray, disc: np.ndarray, erode: bool) -> np.ndarray:
+    """mask eroded by the disc (what lies beyond the frame counted in the mask) or dilated by it,
+    as scipy's binary_erosion and binary_dilation: row by row of the disc, each row a run of pixels
+    (a minimum or maximum filter along the image's rows, one per run length), shifted by the row's
+    offset and combined; two to three times quicker than the disc's many pixels taken one by one."""
     from scipy import ndimage
 
-    return ndimage.binary_dilation(mask, _disc_of(radius, False))
+    h = mask.shape[0]
+    n = disc.shape[0] // 2
+    src = np.ascontiguousarray(mask, dtype=bool).view(np.uint8)
+    along = ndimage.minimum_filter1d if erode else ndimage.maximum_filter1d
+    runs: dict[int, np.ndarray] = {}
+    out = np.full(mask.shape, erode, bool)
+    for i, row in enumerate(disc):
+        run, dy = int(np.count_nonzero(row)), i - n
+        if not run or abs(dy) >= h:  # (a row wholly beyond the frame: the frame's edge, no change)
+            continue
+        if run not in runs:
+            runs[run] = along(src, run, axis=1, mode="constant", cval=int(erode)).view(bool)
+        m = runs[run]
+        at, of = (out[:h - dy], m[dy:]) if dy >= 0 else (out[-dy:], m[:h + dy])
+        if erode:
+            at &= of
+        else:
+            at |= of
+    return out
 
 
 def _spread(diff: np.ndarray, outside: np.ndarray | None) -> np.ndarray:
