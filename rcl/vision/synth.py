@@ -113,7 +113,7 @@ class Tray:
             return None
         m = self._measure(pick)
         truth = m["truth"]
-        if _correct(m) or m["err"] > 1.5 or truth.graspable:
+        if m["err"] > 1.5 or truth.graspable:  # (a correct pick's end is graspable)
             return None
         i, w = truth.wire, self.wires[truth.wire]
         step = UNSEEN_STEP_MM
@@ -133,13 +133,14 @@ class Tray:
             grid = grid[cKDTree(span).query(grid)[0] <= reach]
         else:
             return None
+        covers = [material_distance(o, grid) <= 0.0 for o in self.wires]
         top = np.full(len(grid), -1)
         for j in sorted(range(len(self.wires)), key=lambda j: self.wires[j].layer):  # as drawn: top layers last
-            top[material_distance(self.wires[j], grid) <= 0.0] = j
+            top[covers[j]] = j
         others = np.zeros(len(grid), bool)
-        for j, o in enumerate(self.wires):
+        for j, cover in enumerate(covers):
             if j != i:
-                others |= material_distance(o, grid) <= 0.0
+                others |= cover
         if not others.any():
             return None
         return float(np.count_nonzero(others & (top == i)) / np.count_nonzero(others))
