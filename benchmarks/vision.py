@@ -231,6 +231,8 @@ def main() -> None:
                   + ", ".join(f"{k} {np.median(v):.2f}" for k, v in stages.items()))
         cause_table(results, m)
         near_table(results, m)
+    if args.slice_trays <= 0:
+        return
     print(f"\nwithin each named slice ({args.slice_trays} trays each, seeds {args.seed0}..):")
     print(f"  {'slice':<16} " + " ".join(f"{m + ' c/f/m %':>18}" for m in methods))
     sj = [(args.seed0 + i, name, methods) for name in SLICES for i in range(args.slice_trays)]
