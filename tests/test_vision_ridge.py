@@ -1880,51 +1880,6 @@ def test_two_tones_near_black_do_not_make_a_tone_brighter_than_white():
     assert np.percentile(f[180:, :], 99) < 4.0
 
 
-def lit_patches(seed: int, patches: bool = True, size: int = 256):
-    """(a grey working image at 2 px/mm, its board without noise): a board printed in two
-    tones 8 % apart, the lighter in a few patches 6-11 cm wide (or none: one tone, and a dark
-    wire), under light falling off by a fifth towards the corners and sloping across."""
-    rng = np.random.default_rng(seed)
-    yy, xx = np.mgrid[0:size, 0:size] / size - 0.5
-    light_tone = np.zeros((size, size), bool)
-    for _ in range(3 if patches else 0):
-        cy, cx, r = rng.uniform(-0.4, 0.4), rng.uniform(-0.4, 0.4), rng.uniform(0.12, 0.22)
-        light_tone |= (yy - cy) ** 2 + (xx - cx) ** 2 < r * r
-    truth = np.where(light_tone, 0.455, 0.42) * (1.0 - 0.8 * (xx * xx + yy * yy) + 0.2 * xx)
-    work = truth + rng.normal(0, 0.004, (size, size))
-    if not patches:
-        work[100:104, 20:200] = 0.1
-    return np.repeat(work[..., None], 3, axis=2).astype(np.float32), truth
-
-
-@pytest.mark.parametrize("seed", [0, 7, 8])
-def test_two_tones_under_uneven_light_are_fitted_with_the_light(seed):
-    """Trays 259122 and 249268: boards printed in two tones, some patches of one as wide as the
-    light's slopes. The light, fitted alone as a quadratic, leaned into the patches, and what it
-    left put the two tones 2.4-2.9 of their own spreads apart, under TONE_SPLIT: the board was
-    read as one colour, the patches' edges were lines, and a wire's conductor ran on along one.
-    The light is now fitted again together with a step between the tones, and they are found,
-    each pixel given its own."""
-    import sys
-
-    contrast = sys.modules["rcl.vision.ridge.contrast"]
-    work, truth = lit_patches(seed)
-    tones = contrast._two_tones(work, 2.0, None)
-    assert tones is not None
-    assert np.percentile(np.abs(tones[..., 0] - truth), 90) < 0.01
-
-
-@pytest.mark.parametrize("seed", range(6))
-def test_one_tone_under_uneven_light_is_not_taken_for_two(seed):
-    """A board of one colour under the same light, a dark wire on it: the step fitted with the
-    light finds no second tone."""
-    import sys
-
-    contrast = sys.modules["rcl.vision.ridge.contrast"]
-    work, _ = lit_patches(seed, patches=False)
-    assert contrast._two_tones(work, 2.0, None) is None
-
-
 def patch_image(patch, wire=0.15, board=0.8, wire_from=20.0, ppm=4.0, size=512):
     """A wire 2.2 mm wide along row 64 mm from `wire_from` to 100 mm, on a board; left of 45 mm
     (the whole height) the scene is `patch` (a grey, or None: the board), drawn under the wire."""

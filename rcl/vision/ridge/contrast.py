@@ -18,7 +18,6 @@ MIN_SPREAD = 0.012  # the least board spread believed (3 grey levels): JPEG and 
 BOARD_BLOCK_MM = 8.0  # blocks in which the board's colour is estimated
 TONE_WHEN = (99.5, 6.0)  # the board is tried as two tones when this percentile of F is less than this
 TONE_SPLIT = 3.0  # two tones: this many of their own spreads apart
-TONE_JOINT_FITS = 2  # ... once the light and the step between them are fitted together (so many times)
 TONE_THICK_MM = 2.0  # ... each in places this far from the other (no wire is so wide)
 TONE_SHARE = 0.05  # ... in this share of the tray each
 TONE_EDGE_MM = 1.0  # ... and within this of a patch's edge, a colour between the two is board
@@ -227,10 +226,7 @@ def _two_tones(work: np.ndarray, wppm: float, outside: np.ndarray | None) -> np.
 
     The light across the tray is fitted as a smooth surface (a quadratic in each channel); what
     is left is split along its main colour direction into a darker and a lighter tone (Otsu's
-    threshold on the middle 90 %, so that wires do not pull it); then the light is fitted again
-    together with a step from the darker tone to the lighter, and what is left split again
-    (TONE_JOINT_FITS times): patches of one tone as wide as the light's slopes pull a fit of the
-    light alone, which leaves each tone spread wider. The board is two tones if they
+    threshold on the middle 90 %, so that wires do not pull it). The board is two tones if they
     lie TONE_SPLIT of their own spreads apart and each fills TONE_SHARE of the tray with places
     TONE_THICK_MM from the other (no wire is so wide). Each tone's colour is then taken per block
     from those places (where a block shows one tone only, the other is the same light on the
@@ -250,26 +246,19 @@ def _two_tones(work: np.ndarray, wppm: float, outside: np.ndarray | None) -> np.
     terms = np.column_stack([np.ones_like(x), x, y, x * x, x * y, y * y])
     sample = work[::step, ::step][keep]
     coef, *_ = np.linalg.lstsq(terms, sample, rcond=None)
-    for joint in range(TONE_JOINT_FITS + 1):
-        if joint:  # the light fitted again together with a step from one tone to the other: a patch
-            # of one tone as wide as the light's slopes pulls a fit of the light alone, and what
-            # that leaves widens each tone's spread
-            mid = (u > p5) & (u < p95)
-            both, *_ = np.linalg.lstsq(np.column_stack([terms, u >= t])[mid], sample[mid], rcond=None)
-            coef = both[:-1]
-        rest = sample - terms @ coef
-        spread = np.maximum(1.4826 * np.median(np.abs(rest - np.median(rest, axis=0)), axis=0), MIN_SPREAD)
-        if ch > 1:
-            _, vecs = np.linalg.eigh(np.cov((rest / spread).T))
-            d = vecs[:, -1] / spread
-        else:
-            d = 1.0 / spread
-        u = rest @ d
-        p5, p95 = np.percentile(u, (5, 95))
-        middle = u[(u > p5) & (u < p95)]
-        if len(middle) < 40:  # a blank board: nothing between its 5th and 95th percentiles to split
-            return None
-        t = _otsu(middle)
+    rest = sample - terms @ coef
+    spread = np.maximum(1.4826 * np.median(np.abs(rest - np.median(rest, axis=0)), axis=0), MIN_SPREAD)
+    if ch > 1:
+        _, vecs = np.linalg.eigh(np.cov((rest / spread).T))
+        d = vecs[:, -1] / spread
+    else:
+        d = 1.0 / spread
+    u = rest @ d
+    p5, p95 = np.percentile(u, (5, 95))
+    middle = u[(u > p5) & (u < p95)]
+    if len(middle) < 40:  # a blank board: nothing between its 5th and 95th percentiles to split
+        return None
+    t = _otsu(middle)
     lo, hi = middle[middle < t], middle[middle >= t]
     if len(lo) < 20 or len(hi) < 20:
         return None
