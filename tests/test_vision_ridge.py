@@ -1008,6 +1008,34 @@ def test_ridge_takes_a_round_wire_whose_dim_flank_stands_out_for_the_wire(ppm, l
     assert abs(np.linalg.norm(grasp - centre[0]) - 15.0) < 1.0
 
 
+@pytest.mark.parametrize("width, seed, ends", [(1.8, 1, (0, 1)), (2.0, 1, (1,))])
+def test_ridge_takes_a_round_wire_whose_lit_flank_flickers_over_the_threshold(width, seed, ends):
+    """A dark blue glossy wire on a wood board, lit from one side, in a small grey JPEG image, as
+    on tray 260067 (one wire of it, drawn again straight): its lit flank, with the specular line
+    on it, comes to about the board's shade, so its contrast stands round the board's threshold,
+    now over it and now under. The width read at PEAK_SHARE is the dark flank's alone, about half
+    the wire, and read as wide as all its contrast over the threshold it is as unsteady as that
+    flank. The flank was seen beside the wire, and the lone wire's ends refused. Read again as wide
+    as its contrast over half the threshold (EXTENT_FLOOR), it is the wire's width, the same all
+    along, and the ends are taken."""
+    from rcl.vision.scenes import Scene, WireLook, render
+
+    look = WireLook("blue", (0.04, 0.24, 0.75), ("flat", "flat"), (0.0, 0.0), 0.38)
+    scene = Scene(320, 240, 4.3636, False, 1, 1, ("straight",), (0.8, 3.0), ("blue",), ("flat",), "wood",
+                  (0.61, 0.405, 0.223), 0.0571, (0.0754, 5.24, 0.147), (0.4698, 0.5962, 0.651), 0.0116, 0.0, 0.0,
+                  0.0105, 55, False, 0, 0.0, False, looks=[look])
+    d = np.array([math.cos(math.radians(300.0)), math.sin(math.radians(300.0))])
+    centre = np.array([36.0, 27.0]) - 20.0 * d + np.arange(0.0, 45.0, 0.5)[:, None] * d
+    image = render(scene, [Wire(centre, width, 0, look.colour)], np.random.default_rng(seed))
+    res = find_wires_ridge(image, scene.px_per_mm, enough=0)
+    for end in ends:
+        tip, inward = (centre[0], d) if end == 0 else (centre[-1], -d)
+        near = [s for s in res.candidates if np.linalg.norm(np.array(s.end) / scene.px_per_mm - tip) < 1.5]
+        assert near, res.rejected
+        a = math.radians(near[0].end_angle)
+        assert np.dot([math.cos(a), math.sin(a)], inward) > math.cos(math.radians(10))
+
+
 @pytest.mark.parametrize("widths, expected", [
     ([3.0, 3.1, 3.2, 3.05, 3.15], 0.2),  # steady: the range
     ([2.93, 3.12, 3.12, 3.12, 1.76], 1.5 * 0.19),  # one narrow place (tray 205433, a flank meeting a dark patch)

@@ -124,6 +124,8 @@ EXTENT_MAX_MM = 3.3  # an end refused for something beside it or in the fingers'
 EXTENT_GROW = 1.15  # ... this much wider than the width read at PEAK_SHARE or more,
 EXTENT_STEADY_MM = 0.6  # ... as wide to this much at each of the places it is measured,
 OUTLIER_SPREAD = 1.5  # ... or to two thirds of that at all places but the narrowest (where a flank meets a board of its tone)
+EXTENT_FLOOR = 0.5  # ... and where all its contrast over the threshold is not that steady (a flank that flickers
+# over and under it), as wide as its contrast over this share of the threshold
 EXTENT_OFF = 0.2  # ... and centred on the centre line to this share of it (a wire lit from one side, its
 # dim flank over the board but under PEAK_SHARE of the lit one; a neighbour close beside it is off to one side)
 REAPPEAR_MM = 10.0  # past a tip, the wire's colour again starting within this (something across the way first),
@@ -262,9 +264,18 @@ class EndReader:
             # striped wire: where its light stripes are faint, the width leaves them out too. Read
             # again as wide as its contrast is over 2 mm along it (its centre line, which weaves
             # with the stripes, centred on such contrast too: the STRIPE_ constants). Each if that
-            # is a wire's width, the same all along, and about the centre line
-            for share, stripes in ((0.0, False), (PEAK_SHARE, True)):
-                wide, spread, off = self._across(line, board, 0.0, share, stripes)
+            # is a wire's width, the same all along, and about the centre line. A round wire whose lit
+            # flank comes to about the board's shade: that flank's contrast flickers over and under
+            # the threshold, so all of it over the threshold is no steady width. There only, read
+            # again as wide as its contrast over EXTENT_FLOOR of the threshold
+            flickers = False
+            for share, stripes, floor in ((0.0, False, board), (PEAK_SHARE, True, board),
+                                          (0.0, False, EXTENT_FLOOR * board)):
+                if floor < board and not flickers:
+                    break
+                wide, spread, off = self._across(line, floor, 0.0, share, stripes)
+                if share == 0.0 and floor == board:
+                    flickers = spread > EXTENT_STEADY_MM * mm
                 if width * EXTENT_GROW < wide <= EXTENT_MAX_MM * mm and spread <= EXTENT_STEADY_MM * mm \
                         and abs(off) <= EXTENT_OFF * wide:
                     n = _normals(line)
