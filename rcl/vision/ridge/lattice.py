@@ -23,20 +23,55 @@ import numpy as np
 PEAK = 8.0  # a peak: this many times the spectrum's magnitude round it (the geometric mean, 9 x 9 bins)
 LATTICE_PAIRS = 6  # peaks with a perpendicular twin needed before the picture is taken to show a lattice
 LONGEST_MM = 30.0  # periods longer than this are the light's falloff and the board's mottle, not a lattice
+THIN_CLIP = 4.0  # the thin part of a picture (_thin) clipped to this many of its robust spreads
+THIN_KEEPS = 0.25  # frequencies the thin part keeps less of than this are not taken out through it
 
 
 def without_lattice(diff: np.ndarray, wppm: float, k: float = 1) -> tuple[np.ndarray, int]:
     """(diff with a square lattice taken out, how many of the lattice's peaks paired up; 0: no
     lattice, and diff itself).
     diff: (rows, cols, channels) difference from the board on the working grid, wppm its px/mm,
-    k the input pixels per working pixel (where JPEG's blocks fall)."""
-    from scipy import ndimage
+    k the input pixels per working pixel (where JPEG's blocks fall).
 
+    Sought first in the picture as it is; where the wires' own spectrum drowns the grid's peaks
+    (many wires, a faint grid: about a third of the mats drawn), again in what is thinner than
+    a 3 x 3 block (_thin), where the grid's lines keep most of their contrast and the wires only
+    their edges."""
     h, w, ch = diff.shape
     s = diff[:, :, 0].copy()
     for c in range(1, ch):
         s += diff[:, :, c]
     s -= s.mean()
+    pairs = _pairs(s, wppm, k)
+    if pairs:
+        # taken out: every peak of the untapered spectrum (the lattice's harmonics whose twins were
+        # too faint to pair, JPEG's blocks), scaled down to the spectrum round it
+        gain = _notch(s, wppm)
+        out = np.empty_like(diff)
+        for c in range(ch):
+            out[:, :, c] = np.fft.irfft2(np.fft.rfft2(diff[:, :, c]) * gain, s=(h, w))
+        return out, pairs
+    pairs = _pairs(_thin(s), wppm, k)
+    if not pairs:
+        return diff, 0
+    # taken out of the thin part of each channel as above, what that takes out divided by how
+    # much of each frequency the thin part keeps (THIN_KEEPS or more: the grid's lowest harmonics,
+    # which hardly stand out of the board's mottle, are left)
+    gain = _notch(_thin(s), wppm)
+    fy = np.fft.fftfreq(h)[:, None]
+    fx = np.fft.rfftfreq(w)[None, :]
+    keeps = 1.0 - (1.0 + 2.0 * np.cos(2 * np.pi * fy)) * (1.0 + 2.0 * np.cos(2 * np.pi * fx)) / 9.0
+    taken = np.where(keeps >= THIN_KEEPS, (1.0 - gain) / np.maximum(keeps, THIN_KEEPS), 0.0).astype(np.float32)
+    out = np.empty_like(diff)
+    for c in range(ch):
+        out[:, :, c] = diff[:, :, c] - np.fft.irfft2(np.fft.rfft2(_thin(diff[:, :, c])) * taken, s=(h, w))
+    return out, pairs
+
+
+def _pairs(s: np.ndarray, wppm: float, k: float) -> int:
+    """How many of the spectrum's peaks (of s, the picture summed over channels) have a twin turned
+    by 90 degrees: 0 where fewer than LATTICE_PAIRS."""
+    h, w = s.shape
     fy = np.fft.fftfreq(h).astype(np.float32)[:, None]  # cycles per working px
     fx = np.fft.rfftfreq(w).astype(np.float32)[None, :]
     short = np.hypot(fy, fx) * wppm > 1.0 / LONGEST_MM
@@ -44,33 +79,48 @@ def without_lattice(diff: np.ndarray, wppm: float, k: float = 1) -> tuple[np.nda
     mag = np.log(np.abs(np.fft.rfft2(s * _taper(h, w))) + 1e-9).astype(np.float32)
     iy, ix = _peaks(mag, short)
     if len(iy) < LATTICE_PAIRS:
-        return diff, 0
+        return 0
     vy, vx = fy[iy, 0], fx[0, ix]
     tol = 1.5 / min(h, w)  # a bin and a half
     jpeg = _on_block_grid(vy, k, tol) & _on_block_grid(vx, k, tol)
-    iy, ix, vy, vx = iy[~jpeg], ix[~jpeg], vy[~jpeg], vx[~jpeg]
-    if len(iy) < LATTICE_PAIRS:
-        return diff, 0
+    vy, vx = vy[~jpeg], vx[~jpeg]
+    if len(vy) < LATTICE_PAIRS:
+        return 0
     # each peak's twin turned by 90 degrees, (-vx, vy) or its mirror (vx, -vy): a peak there too?
     vecs = np.column_stack([vy, vx])
     turned = np.column_stack([-vx, vy])
     d = np.minimum(np.abs(turned[:, None, :] - vecs[None, :, :]).max(axis=2),
                    np.abs(turned[:, None, :] + vecs[None, :, :]).max(axis=2))
-    paired = (d <= tol).any(axis=1)
-    if np.count_nonzero(paired) < LATTICE_PAIRS:
-        return diff, 0
-    # taken out: every peak of the untapered spectrum (the lattice's harmonics whose twins were
-    # too faint to pair, JPEG's blocks), scaled down to the spectrum round it
+    paired = int(np.count_nonzero((d <= tol).any(axis=1)))
+    return paired if paired >= LATTICE_PAIRS else 0
+
+
+def _notch(s: np.ndarray, wppm: float) -> np.ndarray:
+    """Per bin of s's (untapered) half spectrum, the gain that scales each of its peaks (and the bins
+    round it) down to the spectrum round it: 1 elsewhere."""
+    from scipy import ndimage
+
+    h, w = s.shape
+    fy = np.fft.fftfreq(h).astype(np.float32)[:, None]
+    fx = np.fft.rfftfreq(w).astype(np.float32)[None, :]
+    short = np.hypot(fy, fx) * wppm > 1.0 / LONGEST_MM
     raw = np.log(np.abs(np.fft.rfft2(s)) + 1e-9).astype(np.float32)
     near = ndimage.uniform_filter(raw, 9, mode="wrap")
     notch = np.zeros(raw.shape, bool)
     notch[_peaks(raw, short, near)] = True
     notch = ndimage.binary_dilation(notch, np.ones((3, 3), bool)) & short
-    gain = np.where(notch, np.minimum(np.exp(near - raw), 1.0), 1.0).astype(np.float32)
-    out = np.empty_like(diff)
-    for c in range(ch):
-        out[:, :, c] = np.fft.irfft2(np.fft.rfft2(diff[:, :, c]) * gain, s=(h, w))
-    return out, int(np.count_nonzero(paired))
+    return np.where(notch, np.minimum(np.exp(near - raw), 1.0), 1.0).astype(np.float32)
+
+
+def _thin(a: np.ndarray) -> np.ndarray:
+    """What of a (rows, cols) is thinner than a 3 x 3 block: a less its 3 x 3 mean, clipped to
+    THIN_CLIP times its robust spread (a wire's edges and the board's specks have no more say
+    than a grid's line)."""
+    from scipy import ndimage
+
+    t = a - ndimage.uniform_filter(a, 3, mode="nearest")
+    spread = 1.4826 * float(np.median(np.abs(t))) + 1e-9
+    return np.clip(t, -THIN_CLIP * spread, THIN_CLIP * spread)
 
 
 def _peaks(mag: np.ndarray, short: np.ndarray, around: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
