@@ -1321,6 +1321,36 @@ def test_a_mats_grid_is_taken_out_of_the_contrast_and_a_wire_across_it_kept():
     assert abs(out[wire, 0].mean()) > 0.9 * 0.4
 
 
+def test_a_faint_grid_under_many_wires_is_found_in_the_thin_part_and_taken_out():
+    """A faint grid (lines 0.06 over the board) under twelve broad wires: the wires' own spectrum
+    drowns the grid's peaks in the picture as it is (about a third of the mats the generator
+    draws), so the lattice is sought again in what is thinner than a 3 x 3 block, where the
+    grid's lines keep most of their contrast and the wires only their edges."""
+    from scipy import ndimage
+
+    from rcl.vision.ridge.lattice import _pairs, without_lattice
+
+    rng = np.random.default_rng(5)
+    diff, on_grid = _lattice_board(17.0, 40.0, True, rng)
+    diff[..., 0] *= 0.75  # (the lines 0.06 over the board, the noise 0.0075)
+    yy, xx = np.mgrid[0:300, 0:360].astype(np.float32)
+    wires = np.zeros(on_grid.shape, bool)
+    for _ in range(12):  # straight wires 2 mm wide, at random angles
+        a, (cy, cx) = rng.uniform(0, np.pi), rng.uniform([0, 0], [300, 360])
+        wires |= np.abs((yy - cy) * np.cos(a) - (xx - cx) * np.sin(a)) < 4
+    diff[wires, 0] = -0.4
+    assert _pairs(diff[..., 0] - diff[..., 0].mean(), 4.0, 1) == 0  # not found in the picture as it is
+    out, pairs = without_lattice(diff, 4.0)
+    assert pairs >= 6
+
+    def lines(a):  # how far the grid's lines stand out of what lies round them, away from the wires
+        grid = on_grid & ~ndimage.binary_dilation(wires, iterations=6)
+        return (a - ndimage.uniform_filter(a, 5))[grid].mean()
+    assert lines(out[..., 0]) < 0.7 * lines(diff[..., 0])  # (0.57)
+    core = ndimage.binary_erosion(wires, iterations=2)
+    assert abs(out[core, 0].mean() + 0.4) < 0.02
+
+
 def test_a_reading_at_another_scale_takes_the_first_readings_findings_about_the_board():
     """Step 8 reads the picture again at two other working scales; what the board is printed with
     (two tones, a mat's grid) does not change with the sampling, so those readings take the first

@@ -12,6 +12,17 @@ Where LATTICE_PAIRS peaks or more pair up, every peak of the spectrum is scaled 
 spectrum round it, in every colour channel: the grid goes, and what does not repeat (the wires)
 stays. On the randomized trays no board but the mats shows a lattice (1000-1399: 29 mats of 40,
 none of the other 360 trays), nor any of the 475 public photographs (taken at 4 px/mm).
+
+Where many wires cross a faint grid, their own spectrum (broad, and streaked along the normal of
+each straight wire) drowns the grid's peaks: about a third of the mats drawn. What is thinner
+than a 3 x 3 block (the picture less its 3 x 3 mean, clipped to THIN_CLIP of its robust spread)
+keeps most of a grid line's contrast but only a wire's edges, so the lattice is sought there
+too, by the same test; where found there, it is taken out of each channel's thin part as above,
+and what that takes out, divided by how much of each frequency the thin part keeps, is
+subtracted from the channel. The grid's lowest harmonics, which the thin part keeps less than
+THIN_KEEPS of, are left (a faint undulation, not a line). On 1,000 trays at seeds 264000-264999
+the picture as it is finds the lattice on 73 of the 102 mats, the thin part on 17 more, and
+neither on any of the 898 other boards.
 """
 from __future__ import annotations
 
