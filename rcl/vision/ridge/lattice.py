@@ -62,13 +62,14 @@ def without_lattice(diff: np.ndarray, wppm: float, k: float = 1) -> tuple[np.nda
         for c in range(ch):
             out[:, :, c] = np.fft.irfft2(np.fft.rfft2(diff[:, :, c]) * gain, s=(h, w))
         return out, pairs
-    pairs = _pairs(_thin(s), wppm, k)
+    thin = _thin(s)
+    pairs = _pairs(thin, wppm, k)
     if not pairs:
         return diff, 0
     # taken out of the thin part of each channel as above, what that takes out divided by how
     # much of each frequency the thin part keeps (THIN_KEEPS or more: the grid's lowest harmonics,
     # which hardly stand out of the board's mottle, are left)
-    gain = _notch(_thin(s), wppm)
+    gain = _notch(thin, wppm)
     fy = np.fft.fftfreq(h)[:, None]
     fx = np.fft.rfftfreq(w)[None, :]
     keeps = 1.0 - (1.0 + 2.0 * np.cos(2 * np.pi * fy)) * (1.0 + 2.0 * np.cos(2 * np.pi * fx)) / 9.0
