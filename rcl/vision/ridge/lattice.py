@@ -84,9 +84,7 @@ def _pairs(s: np.ndarray, wppm: float, k: float) -> int:
     """How many of the spectrum's peaks (of s, the picture summed over channels) have a twin turned
     by 90 degrees: 0 where fewer than LATTICE_PAIRS."""
     h, w = s.shape
-    fy = np.fft.fftfreq(h).astype(np.float32)[:, None]  # cycles per working px
-    fx = np.fft.rfftfreq(w).astype(np.float32)[None, :]
-    short = np.hypot(fy, fx) * wppm > 1.0 / LONGEST_MM
+    fy, fx, short = _frequencies(h, w, wppm)
     # tapered to nothing at the frame's edges, whose jump would put a streak of peaks on both axes
     mag = np.log(np.abs(np.fft.rfft2(s * _taper(h, w))) + 1e-9).astype(np.float32)
     iy, ix = _peaks(mag, short)
@@ -112,16 +110,21 @@ def _notch(s: np.ndarray, wppm: float) -> np.ndarray:
     round it) down to the spectrum round it: 1 elsewhere."""
     from scipy import ndimage
 
-    h, w = s.shape
-    fy = np.fft.fftfreq(h).astype(np.float32)[:, None]
-    fx = np.fft.rfftfreq(w).astype(np.float32)[None, :]
-    short = np.hypot(fy, fx) * wppm > 1.0 / LONGEST_MM
+    short = _frequencies(*s.shape, wppm)[2]
     raw = np.log(np.abs(np.fft.rfft2(s)) + 1e-9).astype(np.float32)
     near = ndimage.uniform_filter(raw, 9, mode="wrap")
     notch = np.zeros(raw.shape, bool)
     notch[_peaks(raw, short, near)] = True
     notch = ndimage.binary_dilation(notch, np.ones((3, 3), bool)) & short
     return np.where(notch, np.minimum(np.exp(near - raw), 1.0), 1.0).astype(np.float32)
+
+
+def _frequencies(h: int, w: int, wppm: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The half spectrum's frequencies of an h x w picture (cycles per working px: rows (h, 1),
+    columns (1, w // 2 + 1)), and which bins lie at periods up to LONGEST_MM."""
+    fy = np.fft.fftfreq(h).astype(np.float32)[:, None]
+    fx = np.fft.rfftfreq(w).astype(np.float32)[None, :]
+    return fy, fx, np.hypot(fy, fx) * wppm > 1.0 / LONGEST_MM
 
 
 def _thin(a: np.ndarray) -> np.ndarray:
