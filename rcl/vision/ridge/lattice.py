@@ -110,7 +110,8 @@ def _notch(s: np.ndarray, wppm: float) -> np.ndarray:
     round it) down to the spectrum round it: 1 elsewhere."""
     from scipy import ndimage
 
-    short = _frequencies(*s.shape, wppm)[2]
+    h, w = s.shape
+    short = _frequencies(h, w, wppm)[2]
     raw = np.log(np.abs(np.fft.rfft2(s)) + 1e-9).astype(np.float32)
     near = ndimage.uniform_filter(raw, 9, mode="wrap")
     notch = np.zeros(raw.shape, bool)
