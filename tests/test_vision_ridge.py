@@ -1917,6 +1917,21 @@ def test_the_boards_block_medians_are_each_blocks_own(shape, wppm):
                 assert np.allclose(board[i, j], np.median(px, axis=0))
 
 
+@pytest.mark.parametrize("seed", [267520, 267111])
+def test_two_tones_are_taken_where_they_leave_little_more_than_half_the_boards_spread(seed):
+    """Trays 267520 and 267111: wires on boards printed in two greens, the patches of the lighter
+    4-5 spreads out of the board read as one colour, and the two tones leaving 0.54 and 0.59 of
+    its spread. Under TONE_TIGHT 0.5 the board was read as one colour and the patches' edges lay
+    beside every graspable end's span: every one was refused, a miss. Now the tones are taken
+    and the first pick is correct."""
+    from rcl.vision.ridge import _look
+
+    tray = random_tray(seed)
+    *_, reader = _look(tray.image, tray.px_per_mm)
+    assert reader.con.tones
+    assert_first_pick_correct(seed)
+
+
 def test_two_tones_near_black_do_not_make_a_tone_brighter_than_white():
     """A photograph on a black cloth (mBEST S2, img49): the background split into two tones
     near black, and where a block showed only the darker one, the lighter was that colour times
