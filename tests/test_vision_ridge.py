@@ -2391,3 +2391,37 @@ def test_ridge_reads_a_striped_wire_as_wide_as_its_stripes(board, angle, width):
     assert len(taken) == 1, res.rejected
     into = np.array([math.cos(math.radians(taken[0].end_angle)), math.sin(math.radians(taken[0].end_angle))])
     assert math.degrees(math.acos(min(1.0, float(into @ d)))) < 10.0
+
+
+@pytest.mark.parametrize("angle", [30.0, 145.0, 250.0])
+def test_ridge_refuses_an_end_with_another_wire_lying_along_it_at_the_grasp_point(angle):
+    """A red wire 2.6 mm thick on a brown board, and a blue wire 1 mm thick lying on it along its
+    line, a little to one side, from 10 mm from the red wire's end on (tray 272437's kind): the two
+    read as one wider wire whose end is the red one's, and the blue wire lies within the fingers'
+    room round the grasp point 15 mm along, on the wire's own line, so nothing beside the wire is
+    seen (the commit before took the red end at each angle). Across the wire near the grasp point
+    it shows blue, a colour it has nowhere within 9.5 mm of its end: the end is refused. Alone, the
+    same red wire's end is taken."""
+    from rcl.vision.scenes import Scene, WireLook, finish, paint
+
+    ppm, start = 6.0, np.array([30.0, 30.0])
+    d = np.array([math.cos(math.radians(angle)), math.sin(math.radians(angle))])
+    side = np.array([-d[1], d[0]])
+    board, red, blue = (0.62, 0.41, 0.16), (0.84, 0.12, 0.1), (0.21, 0.29, 0.71)
+    scene = Scene(512, 512, ppm, True, 2, 2, ("straight",), (1.0, 2.6), ("red",), ("flat",), "plain", board, 0.03,
+                  (0.1, 3.3, 0.12), (0.3, 0.2, 0.93), 0.22, 0.42, 0.0, 0.011, 56, False, 0, 0.0, False)
+    for blue_from in (None, 10.0):
+        wires = [Wire(start + np.arange(0, 60.0, 0.5)[:, None] * d, 2.6, 0, red, 0.0)]
+        looks = [WireLook("red", red, ("flat", "flat"), (0.0, 0.0), 0.3)]
+        if blue_from is not None:
+            wires.append(Wire(start + 0.5 * side + np.arange(blue_from, 60.0, 0.5)[:, None] * d, 1.0, 1, blue, 0.0))
+            looks.append(WireLook("blue", blue, ("flat", "flat"), (0.0, 0.0), 0.3))
+        under = np.empty((512, 512, 3), np.float32)
+        under[:] = board
+        image = finish(scene, paint(scene, wires, looks, under), np.random.default_rng(0))
+        res = find_wires_ridge(image, ppm)
+        taken = [s for s in res.candidates if np.linalg.norm(np.array(s.end) / ppm - start) < 3.0]
+        assert len(taken) == (1 if blue_from is None else 0), (blue_from, res.rejected)
+        if blue_from is not None:
+            assert any("nowhere near its end" in why for (u, v), why in res.rejected
+                       if np.hypot(u / ppm - start[0], v / ppm - start[1]) < 4.0), res.rejected

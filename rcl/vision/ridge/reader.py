@@ -140,7 +140,12 @@ EDGES_HUE = 0.7  # ... and its middle nearer the wire's colour than this share o
 COLOUR_CHANGE = 0.55  # along the line 1 mm past the grasp point to the fingers' room's edge, a colour this far (a
 # share of the wire's contrast) from every colour of the wire 7-14 mm from its tip, over COLOUR_RUN_MM: another
 COLOUR_RUN_MM = 1.0  # wire lies along its line there (a black wire's end in line with a grey wire: tray 205574)
+STRANGE_AT_GRASP = 0.5  # across the wire within GRASP_ALONG_MM of the grasp point, at half the places along or more,
+GRASP_ALONG_MM = 3.0  # a colour this far (a share of the wire's contrast) from every colour the wire shows across it
+OWN_NEAR_MM = (0.5, 9.5)  # this far from its tip (its insulation past the longest metal, and the metal): another wire
+OWN_ACROSS = (-0.35, -0.2, 0.0, 0.2, 0.35)  # lies along it at the grasp point (samples at these shares of its width)
 BESIDE = "another wire or something lies beside it"
+STRANGE = "at the grasp point it has a colour it has nowhere near its end: another wire lies along it there"
 NO_ROOM = "no room for the fingers at the grasp point"
 UNSEEN = "past its end the image has the wire's own colour: it may go on unseen"
 UNDER = "its wire shows again past something across its end: it runs under it"
@@ -395,6 +400,8 @@ class EndReader:
             return why
         if self.changes_colour(full, width, level):
             return "its line changes colour past the grasp point: another wire lies along it there"
+        if self.strange_at_grasp(full, width, level):
+            return STRANGE
         if not gap and self.edges_go_on(on_axis, inward, width):  # (asked last: the ends still free are few)
             return TWO_EDGES_ON
         clutter = self.clutter(span, tip, out, width, board)
@@ -433,6 +440,35 @@ class EndReader:
             return False
         far = np.sqrt(((colour[past][:, None, :] - colour[own][None, :, :]) ** 2).sum(axis=2)).min(axis=1)
         return bool(np.count_nonzero(far > COLOUR_CHANGE * level) >= COLOUR_RUN_MM / 0.25)
+
+    def strange_at_grasp(self, full: np.ndarray, width: float, level: float) -> bool:
+        """Whether the wire whose centre line is `full` (from the tip) shows, across it near the
+        grasp point, colours it shows nowhere near its end: at each place along it within
+        GRASP_ALONG_MM of the grasp point, the farthest of the OWN_ACROSS samples across it from
+        every such sample OWN_NEAR_MM from its tip (the metal and the insulation past it); if that
+        is STRANGE_AT_GRASP of the wire's contrast or more at half those places or more, another
+        wire lies along this one there, read with it as one wider wire whose end is this one's (or
+        the line near its "end" is not this wire's). Samples out of the frame are left out."""
+        mm = self.wppm
+        line = _resample(full, 0.25 * mm)
+        s = _arc(line)
+        near = (s >= OWN_NEAR_MM[0] * mm) & (s <= OWN_NEAR_MM[1] * mm)
+        at = np.abs(s - GRASP_MM * mm) <= GRASP_ALONG_MM * mm
+        if np.count_nonzero(near) < 4 or np.count_nonzero(at) < 4:
+            return False
+        across = np.asarray(OWN_ACROSS) * width
+        pts = line[:, None, :] + across[None, :, None] * _normals(line)[:, None, :]
+        pts = pts[near | at].reshape(-1, 2)
+        seen = self._in_frame(pts).reshape(-1, len(across))
+        colours = self._raw(pts).reshape(len(seen), len(across), -1)
+        inner = near[near | at]
+        own = colours[inner][seen[inner]]
+        if len(own) < 4:
+            return False
+        there = colours[~inner]  # (places, across, channels)
+        far = np.sqrt(((there[:, :, None, :] - own[None, None, :, :]) ** 2).sum(axis=3)).min(axis=2)
+        far = np.where(seen[~inner], far, 0.0).max(axis=1)
+        return bool(median(far) >= STRANGE_AT_GRASP * level)
 
     def hidden(self, tip: np.ndarray, inward: np.ndarray, width: float, level: float) -> bool:
         """Whether past the tip the image has the wire's own colour where the board beside the wire
