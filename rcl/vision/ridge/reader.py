@@ -430,10 +430,9 @@ class EndReader:
         line, s = line[pick], s[pick]
         if len(line) < 8:
             return False
-        across = np.array([-0.2, 0.0, 0.2]) * width
-        pts = (line[:, None, :] + across[None, :, None] * _normals(line)[:, None, :]).reshape(-1, 2)
-        seen = self._in_frame(pts).reshape(len(line), 3).all(axis=1)
-        colour = np.median(self._raw(pts).reshape(len(line), 3, -1), axis=1)
+        colours, seen = self._across_colours(line, np.array([-0.2, 0.0, 0.2]) * width)
+        seen = seen.all(axis=1)
+        colour = np.median(colours, axis=1)
         own = seen & (s < GRASP_MM * mm)
         past = seen & (s > GRASP_MM * mm)
         if np.count_nonzero(own) < 4 or not past.any():
@@ -456,11 +455,7 @@ class EndReader:
         at = np.abs(s - GRASP_MM * mm) <= GRASP_ALONG_MM * mm
         if np.count_nonzero(near) < 4 or np.count_nonzero(at) < 4:
             return False
-        across = np.asarray(OWN_ACROSS) * width
-        pts = line[:, None, :] + across[None, :, None] * _normals(line)[:, None, :]
-        pts = pts[near | at].reshape(-1, 2)
-        seen = self._in_frame(pts).reshape(-1, len(across))
-        colours = self._raw(pts).reshape(len(seen), len(across), -1)
+        colours, seen = self._across_colours(line, np.asarray(OWN_ACROSS) * width, near | at)
         inner = near[near | at]
         own = colours[inner][seen[inner]]
         if len(own) < 4:
@@ -469,6 +464,16 @@ class EndReader:
         far = np.sqrt(((there[:, :, None, :] - own[None, None, :, :]) ** 2).sum(axis=3)).min(axis=2)
         far = np.where(seen[~inner], far, 0.0).max(axis=1)
         return bool(median(far) >= STRANGE_AT_GRASP * level)
+
+    def _across_colours(self, line: np.ndarray, offs: np.ndarray, where: np.ndarray | None = None):
+        """The raw colours across centre line `line` at offsets `offs` (px) along its normals, at
+        its points `where` (all, if None): ((places, offsets, channels), which lie in the frame
+        (places, offsets))."""
+        pts = line[:, None, :] + offs[None, :, None] * _normals(line)[:, None, :]
+        if where is not None:
+            pts = pts[where]
+        pts = pts.reshape(-1, 2)
+        return self._raw(pts).reshape(-1, len(offs), self.con.work.shape[2]), self._in_frame(pts).reshape(-1, len(offs))
 
     def hidden(self, tip: np.ndarray, inward: np.ndarray, width: float, level: float) -> bool:
         """Whether past the tip the image has the wire's own colour where the board beside the wire
