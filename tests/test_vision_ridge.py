@@ -494,6 +494,25 @@ def test_a_rim_is_found_past_something_of_its_colour_reaching_into_the_tray(cols
     assert out[:23, :].all() and not out[27:, :].any()
 
 
+@pytest.mark.parametrize("slope, rim", [(0.0, True), (0.005, True), (0.04, False)])
+def test_a_rim_seen_on_under_half_its_side_is_found_where_its_edge_is_square(slope, rim):
+    """A wire lying along a rim, inside its band, leaves the band even on only part of the side
+    (tray 276410: 52 % of its segments; a printed board's patches do the same to the board's
+    side, 279316). An edge at one depth along 45 % of the side is a tray's edge seen square on; a
+    step sloping across the side (a board's print, a shadow) is not, however straight."""
+    rng = np.random.default_rng(5)
+    image = 0.6 + rng.normal(0, 0.01, (300, 400, 3))
+    x = np.arange(400)
+    edge = 24.0 + slope * (x - 200)
+    image[np.arange(300)[:, None] < edge[None, :]] = (0.75, 0.7, 0.6)  # a rim along the top, 6 mm wide
+    image[8:16, 180:] = 0.1  # a wire lying in it along the rest of the side
+    out = find_rim(image.astype(np.float32), 4.0)
+    if rim:
+        assert out[:int(edge.min()) - 1, :].all() and not out[int(edge.max()) + 3:, :].any()
+    else:
+        assert not out.any()
+
+
 @pytest.mark.parametrize("sag_px, rim", [(6.0, True), (25.0, False)])
 def test_a_band_bowing_more_than_a_lens_bows_a_rim_is_no_rim(sag_px, rim):
     """A lens bows a straight rim a little (6 px over a 400 px side: 1.5 %). A band from the frame's

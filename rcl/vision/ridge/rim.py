@@ -13,6 +13,9 @@ RIM_STEP = 0.03  # ... differing from the board by this much (0-1 colour)
 RIM_BOARD_LOW, RIM_BOARD_HIGH = 20, 80  # ... whose spread is judged between these percentiles
 RIM_CLEAR = 4.0  # ... this many times more than the band or the board varies
 RIM_SHARE = 0.6  # ... along this share of the side's segments
+RIM_SHARE_SQUARE = 0.4  # ... or along this share, where their edges lie on one straight line square to the
+RIM_SQUARE_SLOPE = 0.01  # ... frame (sloping by no more than this): a wire along the rim, or a printed
+# board's patches next to it, hide the step in the other segments
 RIM_BEND_PX = 1.5  # ... on one smooth curve (a lens bows a straight rim) to within this
 RIM_BOW = 0.02  # ... bowing no more than this share of the side's length off a straight line
 RIM_EDGE_MM = 1.0  # the blur of a rim's edge: samples this near it say nothing of what lies round an end
@@ -41,10 +44,10 @@ def find_rim(work: np.ndarray, wppm: float) -> np.ndarray:
         prof = np.median(rows.reshape(nseg, -1, depth, rows.shape[2]), axis=1)  # (nseg, depth, channels)
         edges = _steps(prof, kmin, board, gap)
         ok = np.isfinite(edges)
-        if ok.mean() < RIM_SHARE:
-            continue
         centres = np.arange(nseg) * seg + seg / 2
-        coef = _smooth_curve(centres, edges, ok, n)
+        coef = _smooth_curve(centres, edges, ok, n) if ok.mean() >= RIM_SHARE else None
+        if coef is None:
+            coef = _square_line(centres, edges, ok)
         if coef is None:
             continue
         k = np.clip(np.polyval(coef, np.arange(n)) + 1.0, 0, depth)
@@ -60,12 +63,30 @@ def _smooth_curve(centres: np.ndarray, edges: np.ndarray, ok: np.ndarray, n: int
     across the band must not pull the curve off all the others). A lens bows a straight rim a
     little; a curve bowing more than RIM_BOW of the side's length (n px) is no rim but light
     falling off towards the frame's edge, or what lies beyond a tray seen aslant."""
+    coef = _fit_edges(centres, edges, ok, RIM_SHARE, 2, 0)
+    return coef if coef is not None and abs(coef[0]) * n * n / 4 <= RIM_BOW * n else None  # (the bow off the chord)
+
+
+def _square_line(centres: np.ndarray, edges: np.ndarray, ok: np.ndarray) -> np.ndarray | None:
+    """The straight line (as a quadratic's coefficients) that RIM_SHARE_SQUARE of the side's
+    segments lie on to within RIM_BEND_PX, sloping by RIM_SQUARE_SLOPE at most, or None: fewer
+    segments than a curve needs, but a step at one depth along the side is a tray's edge seen
+    square on, not a board's print or light (those slope or bow)."""
+    coef = _fit_edges(centres, edges, ok, RIM_SHARE_SQUARE, 1, 3)
+    return None if coef is None or abs(coef[0]) > RIM_SQUARE_SLOPE else np.concatenate([[0.0], coef])
+
+
+def _fit_edges(centres: np.ndarray, edges: np.ndarray, ok: np.ndarray, share: float, degree: int,
+               least: int) -> np.ndarray | None:
+    """The polynomial of that degree through the edges found (`ok`) that `share` of the
+    segments, and `least` of them, lie on to within RIM_BEND_PX: fitted to them all, then
+    refitted without the one furthest off while any is further than that; None once fewer remain."""
     ok = ok.copy()
-    while ok.mean() >= RIM_SHARE:
-        coef = np.polyfit(centres[ok], edges[ok], 2)
+    while ok.mean() >= share and ok.sum() >= least:
+        coef = np.polyfit(centres[ok], edges[ok], degree)
         off = np.where(ok, np.abs(np.polyval(coef, centres) - np.nan_to_num(edges)), 0.0)
         if off.max() <= RIM_BEND_PX:
-            return coef if abs(coef[0]) * n * n / 4 <= RIM_BOW * n else None  # (the bow off the chord)
+            return coef
         ok[int(off.argmax())] = False
     return None
 
