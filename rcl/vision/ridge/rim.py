@@ -45,7 +45,7 @@ def find_rim(work: np.ndarray, wppm: float) -> np.ndarray:
         edges = _steps(prof, kmin, board, gap)
         ok = np.isfinite(edges)
         centres = np.arange(nseg) * seg + seg / 2
-        coef = _smooth_curve(centres, edges, ok, n) if ok.mean() >= RIM_SHARE else None
+        coef = _smooth_curve(centres, edges, ok, n)
         if coef is None:
             coef = _square_line(centres, edges, ok)
         if coef is None:
