@@ -2450,3 +2450,14 @@ def test_ridge_refuses_an_end_with_another_wire_lying_along_it_at_the_grasp_poin
         assert len(taken) == (1 if blue_from is None else 0), (blue_from, why)
         if blue_from is not None:
             assert any("nowhere near its end" in w for w in why), why
+
+
+@pytest.mark.parametrize("seed", [272546, 288448])
+def test_ridge_does_not_take_a_cut_ends_broad_shadow_for_a_conductor(seed):
+    """Trays where a wire cut flat or rounded casts its shadow on past its end: a stretch as wide
+    as the wire, faint (under a third of the insulation's contrast), no longer than 1.5 times the
+    wire is thick and of the board's colour darkened. It was followed as a conductor and the tip put
+    2.5-2.8 mm past the end (each a foul on the commit before). Metal is narrower than its
+    insulation, so a stretch so broad and faint is the shadow (BROAD_SHADOW, SHADE_SHARE), and the
+    tip stays at the cut."""
+    assert_first_pick_correct(seed)

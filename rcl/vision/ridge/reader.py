@@ -65,6 +65,9 @@ SHADOW_FOOT = 0.3  # ... to where the contrast is this share of the step above t
 # taper starts before its tip: half way down put such tips 0.23-0.47 mm short)
 SHADOW_DIM = 1.25  # ... and past a tip so taken back, the fan counts that shadow's contrast (so much of it) as board
 SOFT_EDGES = 1.3  # ... has edges no softer than this times the insulation's (softness()): else it is that shadow
+BROAD_SHADOW = (1.5, 0.32, 0.75)  # a conductor no longer than [0] times the wire's width, whose contrast is no more than
+# [1] of the insulation's and which is [2] as broad as it or more (breadth()), is the end's shadow: as wide as the wire
+SHADE_SHARE = 0.6  # ... where so much of it looks like board in shadow (shade(): the board's colour, darkened)
 CONDUCTOR_DOUBT = 0.96  # an end whose tip lies on such a conductor ranks as this much less roomy (its tip
 # is the less sure: of the free ends read on trays 3000-5399, 8 % of such tips lay over 1.5 mm off, 2 % of others)
 TIP_START_MM = 10.0  # the search for the tip starts this far in along the centre line: on the insulation
@@ -806,9 +809,14 @@ class EndReader:
             return end  # it does not hold its contrast past end: the end's blur or shadow
         if not shaded:
             reach = self.out_of_shade(end, out, width, reach)
+        stretch = end + np.linspace(0.3, 0.8, 5)[:, None] * reach * out
+        inside = end - np.linspace(1.0, 3.0, 5)[:, None] * mm * out
+        longest, faint, broad = BROAD_SHADOW
+        if reach <= longest * width and own <= faint * median(rise[(steps >= -3.0 * mm) & (steps <= -mm)]) \
+                and self.shade(stretch)[2].mean() >= SHADE_SHARE \
+                and self.breadth(stretch, out, width) >= broad * self.breadth(inside, out, width):
+            return end  # as wide as the wire, faint, short, the board's colour darkened: the cut end's shadow
         if reach <= SOFT_REACH_MM * mm:  # metal is as sharp as the insulation; a shadow is soft
-            stretch = end + np.linspace(0.3, 0.8, 5)[:, None] * reach * out
-            inside = end - np.linspace(1.0, 3.0, 5)[:, None] * mm * out
             if self.shadow_edges(stretch, inside, out, width):
                 return end
         if i >= run == len(steps):
@@ -943,6 +951,25 @@ class EndReader:
         slope = np.abs(np.diff(f, axis=1)).max(axis=1) / 0.25
         seen = (rise > 0.5) & (slope > 0)
         return float(median(rise[seen] / slope[seen])) if seen.any() else math.nan
+
+    def breadth(self, pts: np.ndarray, out: np.ndarray, width: float) -> float:
+        """How broad what lies across the axis `out` is at the points `pts` (working px; NaN if
+        nothing stands out there): the median over the points of the width of its contrast at half
+        its peak over the board a whole width and 1 mm out from the axis. A conductor is narrower
+        than its insulation; the shadow a cut end casts past it is as wide as the wire."""
+        side = np.array([-out[1], out[0]])
+        lateral = np.arange(-(width + self.wppm), width + self.wppm + 0.01, 0.25)
+        f = self.sample((pts[:, None, :] + lateral[None, :, None] * side).reshape(-1, 2)).reshape(len(pts), -1)
+        f = f - np.median(np.hstack([f[:, :4], f[:, -4:]]), axis=1)[:, None]
+        widths = []
+        for row in f:
+            j = int(np.argmax(row))
+            if row[j] <= 0.5:
+                continue
+            low = np.flatnonzero(row < 0.5 * row[j])
+            left, right = low[low < j], low[low > j]
+            widths.append(((right[0] if right.size else len(row)) - (left[-1] if left.size else -1) - 1) * 0.25)
+        return float(median(np.array(widths))) if widths else math.nan
 
     def _profile(self, end: np.ndarray, out: np.ndarray, width: float, steps: np.ndarray,
                  shaded: bool) -> tuple[np.ndarray, np.ndarray]:
