@@ -944,9 +944,7 @@ class EndReader:
         across (its peak over the board a whole width and 1 mm out from the axis) divided by its
         steepest slope, about the width of a blurred step. A shadow's edges are as soft as its
         penumbra; a conductor's or a ferrule's as sharp as the insulation's (the same blur)."""
-        side = np.array([-out[1], out[0]])
-        lateral = np.arange(-(width + self.wppm), width + self.wppm + 0.01, 0.25)
-        f = self.sample((pts[:, None, :] + lateral[None, :, None] * side).reshape(-1, 2)).reshape(len(pts), -1)
+        f = self._across_axis(pts, out, width)
         rise = f.max(axis=1) - np.median(np.hstack([f[:, :4], f[:, -4:]]), axis=1)
         slope = np.abs(np.diff(f, axis=1)).max(axis=1) / 0.25
         seen = (rise > 0.5) & (slope > 0)
@@ -957,9 +955,7 @@ class EndReader:
         nothing stands out there): the median over the points of the width of its contrast at half
         its peak over the board a whole width and 1 mm out from the axis. A conductor is narrower
         than its insulation; the shadow a cut end casts past it is as wide as the wire."""
-        side = np.array([-out[1], out[0]])
-        lateral = np.arange(-(width + self.wppm), width + self.wppm + 0.01, 0.25)
-        f = self.sample((pts[:, None, :] + lateral[None, :, None] * side).reshape(-1, 2)).reshape(len(pts), -1)
+        f = self._across_axis(pts, out, width)
         f = f - np.median(np.hstack([f[:, :4], f[:, -4:]]), axis=1)[:, None]
         widths = []
         for row in f:
@@ -970,6 +966,13 @@ class EndReader:
             left, right = low[low < j], low[low > j]
             widths.append(((right[0] if right.size else len(row)) - (left[-1] if left.size else -1) - 1) * 0.25)
         return float(median(np.array(widths))) if widths else math.nan
+
+    def _across_axis(self, pts: np.ndarray, out: np.ndarray, width: float) -> np.ndarray:
+        """F across the axis `out` at each of the points `pts`: a row a point, sampled every 0.25
+        px a whole width and 1 mm out either side (softness() and breadth() read these rows)."""
+        side = np.array([-out[1], out[0]])
+        lateral = np.arange(-(width + self.wppm), width + self.wppm + 0.01, 0.25)
+        return self.sample((pts[:, None, :] + lateral[None, :, None] * side).reshape(-1, 2)).reshape(len(pts), -1)
 
     def _profile(self, end: np.ndarray, out: np.ndarray, width: float, steps: np.ndarray,
                  shaded: bool) -> tuple[np.ndarray, np.ndarray]:
